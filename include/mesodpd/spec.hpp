@@ -1,0 +1,115 @@
+// The typed, validated description of a simulation. A TOML file (io/config) or an API call becomes
+// a SimulationSpec before any engine object is built; the engine never reads raw configuration.
+// Units: DPD reduced units (lengths in r_c, masses in particle mass, energies in k_BT).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesodpd {
+
+// A configuration problem, always naming the offending key, file or value.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class Placement { Lattice, Random };
+enum class IntegratorKind { GrootWarren, Euler };
+enum class NoiseDistribution { Uniform, Gaussian };
+enum class NeighborMethod { Verlet, Cells };
+enum class DumpFormat { Lammps, Gsd };
+enum class VelocityInit { Maxwell, File, Zero };
+
+struct SpeciesSpec {
+  std::string name;                            // [[species]] name
+  double mass = 1.0;                           // [[species]] mass (> 0)
+  std::optional<double> a;                     // [[species]] a, used by mixing = "geometric"
+  std::array<double, 3> body_force{0, 0, 0};   // [[species]] body_force: constant external force
+  std::uint64_t count = 0;                     // [[species]] count, or derived from density
+  Placement placement = Placement::Random;     // [[species]] placement
+};
+
+// Fully resolved interaction of one unordered species pair (i <= j).
+struct PairSpec {
+  int i = 0, j = 0;
+  double a = 25.0, gamma = 4.5, rc = 1.0, rd = 1.0, s = 2.0;
+};
+
+// Reverse (periodic) Poiseuille flow of Backer et al. (seed 002 "Boundary Conditions"):
+// force +g along flow_axis where the gradient coordinate is in the lower half, -g in the upper half.
+struct PoiseuilleSpec {
+  bool enabled = false;
+  double force = 0.0;             // g, per unit mass (acceleration)
+  int flow_axis = 0;              // 0 = x
+  int gradient_axis = 2;          // 2 = z
+  int bins = 40;                  // profile bins along the gradient axis
+  std::uint64_t start = 0;        // steps before profile sampling starts (equilibration)
+  std::uint64_t every = 1;        // sampling interval
+  int blocks = 10;                // blocks for the viscosity error bar
+};
+
+struct RdfSpec {
+  bool enabled = false;
+  int bins = 100;
+  double rmax = 3.0;
+  std::uint64_t start = 0, every = 100;
+};
+
+struct MsdSpec {
+  bool enabled = false;
+  std::uint64_t start = 0, every = 100;
+};
+
+struct DumpSpec {
+  bool enabled = false;
+  DumpFormat format = DumpFormat::Lammps;
+  std::uint64_t every = 1000;
+  std::vector<std::string> fields{"id", "species", "position"};  // id, species, position, velocity, force, image
+  std::string file;  // relative to the output directory; default trajectory.lammpstrj / trajectory.gsd
+};
+
+struct SimulationSpec {
+  std::string source;                           // file the spec came from (for messages)
+  std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic periodic lengths
+  double kT = 1.0;                              // [system] kT
+  std::uint64_t seed = 1;                       // [system] seed
+  std::vector<SpeciesSpec> species;             // [[species]]
+  std::vector<PairSpec> pairs;                  // all n(n+1)/2 pairs after defaults/mixing/overrides
+  std::string data_file;                        // [init] lammps_data: read particles from this file
+  bool init_velocities = true;                  // Maxwell-Boltzmann at kT unless the data file has them
+  VelocityInit velocities = VelocityInit::Maxwell;  // [init] velocities; init_velocities == (Maxwell)
+
+  IntegratorKind integrator = IntegratorKind::GrootWarren;  // [integrator] type
+  double dt = 0.04;                             // [integrator] dt
+  double lambda = 0.5;                          // [integrator] lambda (seed 000 Eq. 10)
+
+  NoiseDistribution noise = NoiseDistribution::Uniform;  // [run] noise
+  std::uint64_t steps = 1000;                   // [run] steps
+  double max_velocity = 1.0e3;                  // [run] max_velocity: blow-up threshold on |v|
+  int threads = 0;                              // [run] threads (0 = OpenMP default)
+
+  NeighborMethod neighbor = NeighborMethod::Verlet;  // [neighbor] method
+  double skin = 0.3;                            // [neighbor] skin
+  std::uint64_t sort_every = 0;                 // [neighbor] sort_every (0 = at every rebuild)
+
+  std::uint64_t thermo_every = 100;             // [output] thermo_every
+  std::uint64_t checkpoint_every = 0;           // [output] checkpoint_every (0 = only at the end)
+  bool progress = true;                         // [output] progress
+  DumpSpec dump;                                // [output.dump]
+  PoiseuilleSpec poiseuille;                    // [poiseuille]
+  RdfSpec rdf;                                  // [analysis.rdf]
+  MsdSpec msd;                                  // [analysis.msd]
+
+  // Index into `pairs` for species i, j (either order).
+  const PairSpec& pair(int a, int b) const {
+    const int i = a < b ? a : b, j = a < b ? b : a;
+    const int n = static_cast<int>(species.size());
+    return pairs[static_cast<std::size_t>(i * n - i * (i - 1) / 2 + (j - i))];
+  }
+};
+
+}  // namespace mesodpd

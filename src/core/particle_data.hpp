@@ -1,0 +1,37 @@
+// Structure-of-arrays particle storage: local particles in [0, n_local), ghost copies after them.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mesodpd {
+
+// Owns every per-particle array. Code that reorders particles goes through permute(), so no array can
+// be forgotten. Ghosts (copies of particles owned elsewhere, for domain decomposition) occupy
+// [n_local, n_local + n_ghost); a single-domain periodic run needs none, because pair displacements
+// use the minimum image (core/box.hpp).
+struct ParticleData {
+  std::size_t n_local = 0;
+  std::size_t n_ghost = 0;
+
+  std::vector<std::uint32_t> id;       // global id, unique and stable for the whole run
+  std::vector<std::int32_t> species;   // index into the species table
+  std::vector<double> x, y, z;         // wrapped positions in [0, L)
+  std::vector<double> vx, vy, vz;      // velocities (during the force stage: the predicted velocity)
+  std::vector<double> fx, fy, fz;      // total force of the last force evaluation
+  std::vector<double> hx, hy, hz;      // integrator scratch: half-step velocity of modified velocity-Verlet
+  std::vector<std::int32_t> ix, iy, iz;  // periodic image counters: unwrapped x = x + ix * Lx
+
+  std::size_t size() const { return n_local + n_ghost; }
+
+  void resize(std::size_t n) {
+    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &hx, &hy, &hz}) v->resize(n, 0.0);
+    for (auto* v : {&species, &ix, &iy, &iz}) v->resize(n, 0);
+    id.resize(n, 0);
+  }
+
+  // Reorder local particles so that new index k holds old index order[k]; ghosts are dropped.
+  void permute(const std::vector<std::uint32_t>& order);
+};
+
+}  // namespace mesodpd

@@ -1,0 +1,74 @@
+// Stateless counter-based random numbers (Philox-4x32-10, Salmon et al. SC'11), our own implementation.
+// The pair noise of DPD is drawn as a pure function of (seed, stream, step, min id, max id), so
+// xi_ij = xi_ji exactly and the result does not depend on thread count, rank count or loop order
+// (DESIGN.md aim 2). Compiles under nvcc.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "core/hd.hpp"
+
+namespace mesodpd {
+
+struct Philox4x32 {
+  std::uint32_t v[4];
+};
+
+// Multiply two 32-bit words giving the high and low halves of the 64-bit product.
+MESODPD_HD void mulhilo32(std::uint32_t a, std::uint32_t b, std::uint32_t& hi, std::uint32_t& lo) {
+  const std::uint64_t p = static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+  hi = static_cast<std::uint32_t>(p >> 32);
+  lo = static_cast<std::uint32_t>(p);
+}
+
+// Ten rounds of the Philox-4x32 bijection with the published multipliers and Weyl key increments.
+MESODPD_HD Philox4x32 philox4x32_10(Philox4x32 ctr, std::uint32_t k0, std::uint32_t k1) {
+  constexpr std::uint32_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;
+  constexpr std::uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;
+  for (int round = 0; round < 10; ++round) {
+    std::uint32_t hi0, lo0, hi1, lo1;
+    mulhilo32(kM0, ctr.v[0], hi0, lo0);
+    mulhilo32(kM1, ctr.v[2], hi1, lo1);
+    ctr = Philox4x32{{hi1 ^ ctr.v[1] ^ k0, lo1, hi0 ^ ctr.v[3] ^ k1, lo0}};
+    k0 += kW0;
+    k1 += kW1;
+  }
+  return ctr;
+}
+
+// Map a 32-bit word to the open interval (0, 1): never exactly 0 or 1, so log() is safe.
+MESODPD_HD double u01_open(std::uint32_t w) { return (static_cast<double>(w) + 0.5) * (1.0 / 4294967296.0); }
+
+// Streams separate independent uses of one seed (pair noise, initial velocities, placement, ...).
+enum class RngStream : std::uint32_t { PairNoise = 1, InitVelocity = 2, InitPosition = 3 };
+
+// Symmetric pair noise: one draw per unordered pair (i, j) per step. The key holds the seed;
+// the counter holds (min id, max id, step low, step high ^ stream).
+MESODPD_HD Philox4x32 pair_random_bits(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a,
+                                       std::uint32_t id_b, RngStream stream) {
+  const std::uint32_t lo = id_a < id_b ? id_a : id_b;
+  const std::uint32_t hi = id_a < id_b ? id_b : id_a;
+  Philox4x32 ctr{{lo, hi, static_cast<std::uint32_t>(step),
+                  static_cast<std::uint32_t>(step >> 32) ^ (static_cast<std::uint32_t>(stream) << 24)}};
+  return philox4x32_10(ctr, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
+}
+
+// Zero-mean, unit-variance uniform variate on (-sqrt3, sqrt3): the variance-matched choice that
+// Groot and Warren found statistically equivalent to a Gaussian (seed 000 Sect. 2.5.1).
+MESODPD_HD double uniform_unit_variance(std::uint32_t w) { return 1.7320508075688772 * (2.0 * u01_open(w) - 1.0); }
+
+// Standard normal variate by Box-Muller from two words.
+MESODPD_HD double gaussian_unit(std::uint32_t w0, std::uint32_t w1) {
+  const double r = std::sqrt(-2.0 * std::log(u01_open(w0)));
+  return r * std::cos(6.283185307179586 * u01_open(w1));
+}
+
+enum class NoiseKind : int { Uniform = 0, Gaussian = 1 };
+
+MESODPD_HD double pair_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a, std::uint32_t id_b,
+                             NoiseKind kind) {
+  const Philox4x32 r = pair_random_bits(seed, step, id_a, id_b, RngStream::PairNoise);
+  return kind == NoiseKind::Uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
+}
+
+}  // namespace mesodpd

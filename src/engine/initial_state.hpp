@@ -1,0 +1,18 @@
+// Building the particles of a new run: lattice or random placement, or a LAMMPS data file, and
+// Maxwell-Boltzmann velocities with zero total momentum (seed 000 Sect. 2.6).
+#pragma once
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+// Fills `p` and sets `box` from the spec (and the data file, if one is named). Placement and
+// velocities are pure functions of (seed, particle id), so they do not depend on thread count.
+void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p);
+
+// Draws Maxwell-Boltzmann velocities at kT, removes the centre-of-mass velocity and rescales so the
+// kinetic temperature (3N - 3 degrees of freedom) is exactly kT.
+void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p);
+
+}  // namespace mesodpd

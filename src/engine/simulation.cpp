@@ -1,0 +1,437 @@
+// Simulation: construction, the time step, and the measurements and writers it drives.
+#include "engine/simulation.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/kinetic_theory.hpp"
+#include "analysis/msd.hpp"
+#include "analysis/rdf.hpp"
+#include "analysis/svg_plot.hpp"
+#include "analysis/velocity_profile.hpp"
+#include "engine/initial_state.hpp"
+#include "engine/progress.hpp"
+#include "io/atomic_file.hpp"
+#include "io/byte_buffer.hpp"
+#include "io/checkpoint_file.hpp"
+#include "io/frame.hpp"
+#include "io/gsd_writer.hpp"
+#include "io/lammps_dump_writer.hpp"
+
+namespace mesodpd {
+
+PairTable make_pair_table(const SimulationSpec& spec) {
+  PairTable t;
+  t.n_species = static_cast<int>(spec.species.size());
+  t.params.resize(static_cast<std::size_t>(t.n_species * t.n_species));
+  for (int a = 0; a < t.n_species; ++a)
+    for (int b = 0; b < t.n_species; ++b) {
+      const PairSpec& ps = spec.pair(a, b);
+      DpdPairParams& q = t.params[static_cast<std::size_t>(a * t.n_species + b)];
+      q.a = ps.a;
+      q.gamma = ps.gamma;
+      q.sigma = std::sqrt(2.0 * ps.gamma * spec.kT);  // seed 000 Eq. 7
+      q.rc = ps.rc;
+      q.rd = ps.rd;
+      q.s = ps.s;
+      const double range = std::max(ps.rc, ps.rd);
+      q.rcut2 = range * range;
+      t.max_cutoff = std::max(t.max_cutoff, range);
+    }
+  return t;
+}
+
+// Everything that watches the run: thermo output, profiles, RDF, MSD, trajectory, progress.
+class Observers {
+ public:
+  Observers(const Simulation& sim, const RunOptions& opt, bool restarted);
+  bool thermo_due(std::uint64_t step) const {
+    return !opt_.out_dir.empty() && step % sim_.spec().thermo_every == 0;
+  }
+  bool wants_sums(std::uint64_t step) const { return thermo_due(step); }
+  void observe(std::uint64_t step, const PairSums& sums);
+  std::string finish();
+  void progress(std::uint64_t step) {
+    if (progress_) progress_->update(step);
+  }
+
+ private:
+  std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
+  void write_frame(std::uint64_t step);
+
+  const Simulation& sim_;
+  RunOptions opt_;
+  std::ofstream thermo_;
+  std::optional<PoiseuilleProfile> profile_;
+  std::optional<RadialDistribution> rdf_;
+  std::optional<MeanSquaredDisplacement> msd_;
+  std::optional<LammpsDumpWriter> lammps_;
+  std::optional<GsdWriter> gsd_;
+  std::optional<ProgressReporter> progress_;
+  std::vector<double> scratch_a_, scratch_b_, scratch_c_;
+  double temperature_sum_ = 0, pressure_sum_ = 0;
+  std::uint64_t thermo_samples_ = 0;
+};
+
+Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarted) : sim_(sim), opt_(opt) {
+  const SimulationSpec& s = sim.spec();
+  if (opt_.progress) progress_.emplace(sim.current_step(), sim.final_step());
+  if (opt_.out_dir.empty()) return;
+  std::filesystem::create_directories(opt_.out_dir);
+  const auto thermo_path = out("thermo.csv");
+  const bool append = restarted && std::filesystem::exists(thermo_path);
+  thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
+  if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
+  if (!append) thermo_ << thermo_csv_header() << '\n';
+  const Box& box = sim.box();
+  const double len[3] = {box.len.x, box.len.y, box.len.z};
+  if (s.poiseuille.enabled) {
+    double mass = 0;
+    for (std::size_t i = 0; i < sim.particles().n_local; ++i)
+      mass += s.species[static_cast<std::size_t>(sim.particles().species[i])].mass;
+    profile_.emplace(static_cast<std::size_t>(s.poiseuille.bins), s.poiseuille.flow_axis, s.poiseuille.gradient_axis,
+                     len[s.poiseuille.gradient_axis], static_cast<std::size_t>(s.poiseuille.blocks),
+                     s.poiseuille.force, mass / box.volume());
+  }
+  if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
+  if (s.msd.enabled) msd_.emplace();
+  if (s.dump.enabled) {
+    const bool gsd = s.dump.format == DumpFormat::Gsd;
+    const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
+    if (gsd)
+      gsd_.emplace(out(name), s.dump.fields, restarted);
+    else
+      lammps_.emplace(out(name), s.dump.fields, restarted);
+  }
+}
+
+void Observers::write_frame(std::uint64_t step) {
+  const ParticleData& p = sim_.particles();
+  const SimulationSpec& s = sim_.spec();
+  std::vector<std::string> names;
+  std::vector<double> masses;
+  for (const auto& sp : s.species) {
+    names.push_back(sp.name);
+    masses.push_back(sp.mass);
+  }
+  FrameView f;
+  f.step = step;
+  f.time = static_cast<double>(step) * s.dt;
+  f.box_lo = {0, 0, 0};
+  f.box_len = {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z};
+  f.n = p.n_local;
+  f.id = p.id.data();
+  f.species = p.species.data();
+  f.x = p.x.data();
+  f.y = p.y.data();
+  f.z = p.z.data();
+  f.vx = p.vx.data();
+  f.vy = p.vy.data();
+  f.vz = p.vz.data();
+  f.fx = p.fx.data();
+  f.fy = p.fy.data();
+  f.fz = p.fz.data();
+  f.ix = p.ix.data();
+  f.iy = p.iy.data();
+  f.iz = p.iz.data();
+  f.species_names = &names;
+  f.species_mass = &masses;
+  if (lammps_) lammps_->write_frame(f);
+  if (gsd_) gsd_->write_frame(f);
+}
+
+void Observers::observe(std::uint64_t step, const PairSums& sums) {
+  const SimulationSpec& s = sim_.spec();
+  const ParticleData& p = sim_.particles();
+  const std::size_t n = p.n_local;
+  if (thermo_due(step)) {
+    std::vector<double> mass;
+    for (const auto& sp : s.species) mass.push_back(sp.mass);
+    ThermoState t = compute_thermo(p, mass, sim_.box(), sums);
+    t.step = step;
+    t.time = static_cast<double>(step) * s.dt;
+    t.neighbor_builds = sim_.neighbor_list().builds();
+    thermo_ << thermo_csv_row(t) << '\n';
+    thermo_.flush();
+    temperature_sum_ += t.temperature;
+    pressure_sum_ += t.pressure;
+    ++thermo_samples_;
+  }
+  if (profile_ && step > s.poiseuille.start && step % s.poiseuille.every == 0) {
+    const auto& grad = s.poiseuille.gradient_axis == 0 ? p.x : (s.poiseuille.gradient_axis == 1 ? p.y : p.z);
+    const auto& flow = s.poiseuille.flow_axis == 0 ? p.vx : (s.poiseuille.flow_axis == 1 ? p.vy : p.vz);
+    profile_->sample(grad.data(), flow.data(), n);
+  }
+  if (rdf_ && step >= s.rdf.start && step % s.rdf.every == 0)
+    rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z});
+  if (msd_ && step >= s.msd.start && step % s.msd.every == 0) {
+    scratch_a_.resize(n);
+    scratch_b_.resize(n);
+    scratch_c_.resize(n);
+    const Box& b = sim_.box();
+    for (std::size_t i = 0; i < n; ++i) {
+      scratch_a_[i] = p.x[i] + p.ix[i] * b.len.x;
+      scratch_b_[i] = p.y[i] + p.iy[i] * b.len.y;
+      scratch_c_[i] = p.z[i] + p.iz[i] * b.len.z;
+    }
+    msd_->sample(step, static_cast<double>(step) * s.dt, p.id.data(), scratch_a_.data(), scratch_b_.data(),
+                 scratch_c_.data(), n);
+  }
+  if (s.dump.enabled && !opt_.out_dir.empty() && step % s.dump.every == 0) write_frame(step);
+}
+
+std::string Observers::finish() {
+  const SimulationSpec& s = sim_.spec();
+  std::string summary;
+  if (thermo_samples_ > 0)
+    summary += fmt::format("mean temperature {:.5f} (target {}), mean pressure {:.4f} over {} thermo rows\n",
+                           temperature_sum_ / static_cast<double>(thermo_samples_), s.kT,
+                           pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
+  if (profile_) {
+    const Box& b = sim_.box();
+    double mass = 0;
+    for (std::size_t i = 0; i < sim_.particles().n_local; ++i)
+      mass += s.species[static_cast<std::size_t>(sim_.particles().species[i])].mass;
+    const double rho = static_cast<double>(sim_.particles().n_local) / b.volume();
+    const PairSpec& pp = s.pair(0, 0);
+    const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
+    if (profile_->samples() < 2) {
+      summary += "reverse Poiseuille: too few profile samples for a viscosity (run longer than poiseuille.start)\n";
+    } else {
+      const ViscosityFit fit = profile_->fit();
+      summary += fmt::format(
+          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} (kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f})\n",
+          fit.eta, fit.eta_err, eta_theory);
+      profile_->write_csv(out("poiseuille_profile.csv").string());
+      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) {
+        os << fmt::format(
+            "{{\n  \"eta\": {:.8g},\n  \"eta_err\": {:.8g},\n  \"eta_kinetic_theory\": {:.8g},\n  \"blocks\": {},\n"
+            "  \"samples\": {},\n  \"density\": {:.8g},\n  \"gamma\": {:.8g},\n  \"s\": {:.8g},\n  \"force\": {:.8g}\n}}\n",
+            fit.eta, fit.eta_err, eta_theory, fit.blocks_used, profile_->samples(), rho, pp.gamma, pp.s,
+            s.poiseuille.force);
+      });
+      SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
+      SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
+      const char* axes = "xyz";
+      write_svg_plot(out("velocity_profile.svg").string(), "Reverse Poiseuille flow: velocity profile",
+                     fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
+                     fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
+                     {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
+                      fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", eta_theory),
+                      fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho, pp.a,
+                                  pp.gamma, pp.s, s.poiseuille.force)});
+    }
+  }
+  if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
+  if (msd_ && msd_->size() > 2) {
+    msd_->write_csv(out("msd.csv").string());
+    summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());
+  }
+  if (progress_) progress_->finish();
+  return summary;
+}
+
+Simulation::Simulation(SimulationSpec spec, RunOptions options)
+    : spec_(std::move(spec)),
+      options_(std::move(options)),
+      nlist_(NeighborSettings{}),
+      forces_(make_pair_table(spec_),
+              NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
+  if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
+  nlist_ = NeighborList(NeighborSettings{forces_.table().max_cutoff,
+                                         spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
+  if (spec_.integrator == IntegratorKind::GrootWarren)
+    integrator_ = GrootWarrenIntegrator{spec_.lambda};
+  else
+    integrator_ = EulerIntegrator{};
+  for (const auto& s : spec_.species) {
+    mass_.push_back(s.mass);
+    inv_mass_.push_back(1.0 / s.mass);
+  }
+  final_step_ = options_.steps ? *options_.steps : spec_.steps;
+  const bool restarted = !options_.restart.empty();
+  if (restarted) {
+    load_checkpoint(options_.restart);
+  } else {
+    make_initial_state(spec_, box_, p_);
+    nlist_.build(p_, box_);
+    compute_forces(true);
+  }
+  if (box_.len.x < 2 * forces_.table().max_cutoff || box_.len.y < 2 * forces_.table().max_cutoff ||
+      box_.len.z < 2 * forces_.table().max_cutoff)
+    throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
+  observers_ = std::make_unique<Observers>(*this, options_, restarted);
+  if (!restarted) observers_->observe(step_, sums_);
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::compute_forces(bool with_sums) {
+  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_);
+  sums_valid_ = with_sums;
+  // External forces after the pair forces, in a fixed per-particle order.
+  const std::size_t n = p_.n_local;
+  const auto& sp = spec_.species;
+  const bool any_body = std::any_of(sp.begin(), sp.end(), [](const SpeciesSpec& s) {
+    return s.body_force[0] != 0 || s.body_force[1] != 0 || s.body_force[2] != 0;
+  });
+  if (any_body) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& bf = sp[static_cast<std::size_t>(p_.species[i])].body_force;
+      p_.fx[i] += bf[0];
+      p_.fy[i] += bf[1];
+      p_.fz[i] += bf[2];
+    }
+  }
+  if (spec_.poiseuille.enabled) {
+    // Reverse Poiseuille (Backer et al., seed 002): +g in the lower half of the gradient axis, -g above.
+    const int ga = spec_.poiseuille.gradient_axis, fa = spec_.poiseuille.flow_axis;
+    const double half = 0.5 * (ga == 0 ? box_.len.x : ga == 1 ? box_.len.y : box_.len.z);
+    const auto& coord = ga == 0 ? p_.x : ga == 1 ? p_.y : p_.z;
+    auto& f = fa == 0 ? p_.fx : fa == 1 ? p_.fy : p_.fz;
+    const double g = spec_.poiseuille.force;
+    for (std::size_t i = 0; i < n; ++i) f[i] += mass_[static_cast<std::size_t>(p_.species[i])] * (coord[i] < half ? g : -g);
+  }
+}
+
+void Simulation::step() {
+  // 1. First part of the integrator: positions and the velocity the forces will see.
+  std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
+  // 2. Periodic wrap (the exchange point: ghost exchange and migration go here under MPI).
+  const std::size_t n = p_.n_local;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    wrap_coordinate(p_.x[i], p_.ix[i], box_.len.x);
+    wrap_coordinate(p_.y[i], p_.iy[i], box_.len.y);
+    wrap_coordinate(p_.z[i], p_.iz[i], box_.len.z);
+  }
+  ++step_;
+  // 3. Neighbour list, rebuilt only when some particle has moved half the skin.
+  if (nlist_.needs_rebuild(p_, box_)) nlist_.build(p_, box_);
+  // 4. Forces at the new positions (pair forces, then external forces).
+  compute_forces(observers_ && observers_->wants_sums(step_));
+  // 5. Second part of the integrator.
+  std::visit([&](const auto& integ) { integ.post_force(p_, inv_mass_, spec_.dt); }, integrator_);
+  // 6. Stop on NaN or runaway velocity before anything is written.
+  check_health();
+  // 7. Measure and write.
+  if (observers_) {
+    observers_->observe(step_, sums_);
+    observers_->progress(step_);
+  }
+  if (!options_.out_dir.empty() && spec_.checkpoint_every > 0 && step_ % spec_.checkpoint_every == 0)
+    write_checkpoint(options_.out_dir / "checkpoint.mdpd");
+}
+
+void Simulation::check_health() const {
+  const std::size_t n = p_.n_local;
+  const double vmax2 = spec_.max_velocity * spec_.max_velocity;
+  std::size_t bad = n;
+#pragma omp parallel for reduction(min : bad) schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
+    const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) && std::isfinite(v2);
+    if (!finite || v2 > vmax2) bad = std::min(bad, i);
+  }
+  if (bad == n) return;
+  // Report the smallest id among offenders so the message does not depend on storage order.
+  std::uint32_t id = p_.id[bad];
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
+    const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) && std::isfinite(v2);
+    if ((!finite || v2 > vmax2) && p_.id[i] < id) {
+      id = p_.id[i];
+      bad = i;
+    }
+  }
+  const double speed = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
+  throw BlowUpError(step_, id,
+                    fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
+                                "(run.max_velocity = {}); reduce integrator.dt or check the forces",
+                                step_, id, p_.x[bad], p_.y[bad], p_.z[bad], speed, spec_.max_velocity));
+}
+
+ThermoState Simulation::thermo() {
+  if (!sums_valid_) {
+    // Recompute the pair sums at the current step; the forces come out bit-identical.
+    compute_forces(true);
+  }
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_);
+  t.step = step_;
+  t.time = static_cast<double>(step_) * spec_.dt;
+  t.neighbor_builds = nlist_.builds();
+  return t;
+}
+
+std::string Simulation::run() {
+  while (step_ < final_step_) step();
+  std::string summary;
+  if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
+  if (observers_) summary = observers_->finish();
+  return summary;
+}
+
+namespace {
+constexpr std::uint64_t kStateTag = 0x4d45534f44504431ull;  // "MESODPD1": payload layout of this file
+}
+
+void Simulation::write_checkpoint(const std::filesystem::path& file) const {
+  ByteWriter w;
+  w.put<std::uint64_t>(kStateTag);
+  w.put<std::uint64_t>(step_);
+  w.put<std::uint64_t>(spec_.seed);
+  w.put<double>(spec_.dt);
+  w.put<std::uint64_t>(spec_.species.size());
+  w.put<double>(box_.len.x);
+  w.put<double>(box_.len.y);
+  w.put<double>(box_.len.z);
+  const std::size_t n = p_.n_local;
+  auto first_n = [n](const auto& v) { return std::span(v.data(), n); };
+  w.put_vector(first_n(p_.id));
+  w.put_vector(first_n(p_.species));
+  for (const auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) w.put_vector(first_n(*v));
+  for (const auto* v : {&p_.ix, &p_.iy, &p_.iz}) w.put_vector(first_n(*v));
+  write_checkpoint_file(file, w.bytes());
+}
+
+void Simulation::load_checkpoint(const std::filesystem::path& file) {
+  const std::vector<std::byte> bytes = read_checkpoint_file(file);
+  ByteReader r(bytes, file.string());
+  if (r.get<std::uint64_t>() != kStateTag) throw ConfigError(fmt::format("{}: not a mesodpd state checkpoint", file.string()));
+  step_ = r.get<std::uint64_t>();
+  const auto seed = r.get<std::uint64_t>();
+  (void)r.get<double>();
+  const auto ns = r.get<std::uint64_t>();
+  if (ns != spec_.species.size())
+    throw ConfigError(fmt::format("{}: checkpoint has {} species but the config defines {}", file.string(), ns,
+                                  spec_.species.size()));
+  if (seed != spec_.seed)
+    throw ConfigError(fmt::format("system.seed: {} differs from the checkpoint's seed {} ({})", spec_.seed, seed,
+                                  file.string()));
+  box_.len.x = r.get<double>();
+  box_.len.y = r.get<double>();
+  box_.len.z = r.get<double>();
+  p_.id = r.get_vector<std::uint32_t>();
+  const std::size_t n = p_.id.size();
+  p_.species = r.get_vector<std::int32_t>();
+  for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) *v = r.get_vector<double>();
+  for (auto* v : {&p_.ix, &p_.iy, &p_.iz}) *v = r.get_vector<std::int32_t>();
+  p_.n_local = n;
+  p_.n_ghost = 0;
+  p_.hx.assign(n, 0);
+  p_.hy.assign(n, 0);
+  p_.hz.assign(n, 0);
+  for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz})
+    if (v->size() != n) throw ConfigError(fmt::format("{}: inconsistent array sizes in checkpoint", file.string()));
+  for (std::size_t i = 0; i < n; ++i)
+    if (p_.species[i] < 0 || static_cast<std::size_t>(p_.species[i]) >= ns)
+      throw ConfigError(fmt::format("{}: particle {} has an invalid species", file.string(), p_.id[i]));
+  if (step_ > final_step_)
+    throw ConfigError(fmt::format("run.steps: the checkpoint is already at step {}, beyond the requested {}", step_,
+                                  final_step_));
+}
+
+}  // namespace mesodpd

@@ -1,0 +1,95 @@
+// A simulation: the particles, the force stages, the integrator and the measurements, with
+// Simulation::step() as the one place that says what a time step is.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+#include "engine/force_compute.hpp"
+#include "engine/thermo.hpp"
+#include "integrate/integrator.hpp"
+#include "mesodpd/spec.hpp"
+#include "neighbor/neighbor_list.hpp"
+
+namespace mesodpd {
+
+// A run that went unstable: NaN or a particle faster than run.max_velocity.
+class BlowUpError : public std::runtime_error {
+ public:
+  BlowUpError(std::uint64_t step, std::uint32_t id, const std::string& what)
+      : std::runtime_error(what), step_(step), id_(id) {}
+  std::uint64_t step() const { return step_; }
+  std::uint32_t particle_id() const { return id_; }
+
+ private:
+  std::uint64_t step_;
+  std::uint32_t id_;
+};
+
+struct RunOptions {
+  std::filesystem::path out_dir;                 // empty: write no files (library and test use)
+  std::optional<std::uint64_t> steps;            // overrides run.steps (the final step number)
+  std::filesystem::path restart;                 // continue from this checkpoint
+  bool progress = false;                         // progress bar (terminal) or log lines
+};
+
+class Observers;  // measurements and writers, defined in simulation.cpp
+
+class Simulation {
+ public:
+  Simulation(SimulationSpec spec, RunOptions options);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Advances to the final step (run.steps or the override), measuring and writing as configured,
+  // then writes the final checkpoint and summaries. Returns a short human-readable summary.
+  std::string run();
+
+  // One time step, in this order: integrate (first part), wrap/exchange, neighbours, forces,
+  // integrate (second part), health check, measure, write.
+  void step();
+
+  const SimulationSpec& spec() const { return spec_; }
+  const ParticleData& particles() const { return p_; }
+  ParticleData& particles() { return p_; }
+  const Box& box() const { return box_; }
+  std::uint64_t current_step() const { return step_; }
+  std::uint64_t final_step() const { return final_step_; }
+  const NeighborList& neighbor_list() const { return nlist_; }
+  // Thermodynamic state at the current step (recomputes the pair sums without changing any state).
+  ThermoState thermo();
+  // Serialises the full dynamic state; a run restarted from it continues bit-identically.
+  void write_checkpoint(const std::filesystem::path& file) const;
+
+ private:
+  void compute_forces(bool with_sums);
+  void check_health() const;
+  void load_checkpoint(const std::filesystem::path& file);
+
+  SimulationSpec spec_;
+  RunOptions options_;
+  Box box_;
+  ParticleData p_;
+  NeighborList nlist_;
+  ForceCompute forces_;
+  IntegratorVariant integrator_;
+  std::vector<double> mass_, inv_mass_;
+  std::uint64_t step_ = 0;
+  std::uint64_t final_step_ = 0;
+  PairSums sums_;
+  bool sums_valid_ = false;
+  std::unique_ptr<Observers> observers_;
+};
+
+// Builds the dense pair table from a validated spec (sigma from the fluctuation-dissipation relation).
+PairTable make_pair_table(const SimulationSpec& spec);
+
+}  // namespace mesodpd

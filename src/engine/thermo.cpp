@@ -1,0 +1,53 @@
+// Kinetic sums for the thermodynamic output (virial sums come from the force loop).
+#include "engine/thermo.hpp"
+
+#include <fmt/format.h>
+
+namespace mesodpd {
+
+ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
+                           const PairSums& sums) {
+  ThermoState s;
+  std::array<double, 6> k{};
+  std::array<double, 3> mom{};
+  // Serial, fixed-order sums: thermo output must not depend on the thread count.
+  for (std::size_t i = 0; i < p.n_local; ++i) {
+    const double m = mass[static_cast<std::size_t>(p.species[i])];
+    const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
+    k[0] += m * vx * vx;
+    k[1] += m * vy * vy;
+    k[2] += m * vz * vz;
+    k[3] += m * vx * vy;
+    k[4] += m * vx * vz;
+    k[5] += m * vy * vz;
+    mom[0] += m * vx;
+    mom[1] += m * vy;
+    mom[2] += m * vz;
+  }
+  const double n = static_cast<double>(p.n_local);
+  const double dof = n > 1 ? 3.0 * n - 3.0 : 3.0;
+  const double v = box.volume();
+  s.kinetic_energy = 0.5 * (k[0] + k[1] + k[2]);
+  s.temperature = (k[0] + k[1] + k[2]) / dof;
+  for (std::size_t q = 0; q < 6; ++q) s.p_tensor[q] = (k[q] + sums.virial[q]) / v;
+  s.pressure = (s.p_tensor[0] + s.p_tensor[1] + s.p_tensor[2]) / 3.0;
+  s.pressure_conservative = (k[0] + k[1] + k[2] + sums.virial_conservative) / (3.0 * v);
+  s.momentum = mom;
+  s.potential_energy = sums.potential_energy;
+  return s;
+}
+
+std::string thermo_csv_header() {
+  return "step,time,temperature,pressure,pxx,pyy,pzz,pxy,pxz,pyz,momentum_x,momentum_y,momentum_z,"
+         "potential_energy,kinetic_energy,pressure_conservative,neighbor_builds";
+}
+
+std::string thermo_csv_row(const ThermoState& s) {
+  return fmt::format("{},{:.10g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.6e},{:.6e},{:.6e},"
+                     "{:.12g},{:.12g},{:.12g},{}",
+                     s.step, s.time, s.temperature, s.pressure, s.p_tensor[0], s.p_tensor[1], s.p_tensor[2],
+                     s.p_tensor[3], s.p_tensor[4], s.p_tensor[5], s.momentum[0], s.momentum[1], s.momentum[2],
+                     s.potential_energy, s.kinetic_energy, s.pressure_conservative, s.neighbor_builds);
+}
+
+}  // namespace mesodpd

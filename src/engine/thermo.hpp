@@ -1,0 +1,34 @@
+// Instantaneous thermodynamic state: temperature, pressure tensor (kinetic + virial), momentum, energy.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+#include "engine/force_compute.hpp"
+
+namespace mesodpd {
+
+struct ThermoState {
+  std::uint64_t step = 0;
+  double time = 0.0;
+  double temperature = 0.0;               // sum m v^2 / (3N - 3): total momentum is conserved
+  double pressure = 0.0;                  // trace/3 of the pressure tensor (seed 000 Eqs. 11-12)
+  std::array<double, 6> p_tensor{};       // xx yy zz xy xz yz: (sum m v v + sum r_ij F_ij) / V
+  double pressure_conservative = 0.0;     // kinetic + conservative virial only (seed 003 EOS)
+  std::array<double, 3> momentum{};
+  double potential_energy = 0.0;
+  double kinetic_energy = 0.0;
+  std::uint64_t neighbor_builds = 0;
+};
+
+ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
+                           const PairSums& sums);
+
+// The header of thermo.csv and one row, at full precision.
+std::string thermo_csv_header();
+std::string thermo_csv_row(const ThermoState& s);
+
+}  // namespace mesodpd

@@ -1,0 +1,116 @@
+// Cell-binned construction of the half Verlet list, with optional spatial sorting.
+#include "neighbor/neighbor_list.hpp"
+
+
+namespace mesodpd {
+
+bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
+  if (builds_ == 0 || x0_.size() != p.n_local) return true;
+  if (settings_.skin <= 0.0) return true;
+  const double limit2 = 0.25 * settings_.skin * settings_.skin;
+  const double ilx = 1.0 / box.len.x, ily = 1.0 / box.len.y, ilz = 1.0 / box.len.z;
+  const std::size_t n = p.n_local;
+  int moved = 0;
+#pragma omp parallel for reduction(| : moved) schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, ilx);
+    const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, ily);
+    const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, ilz);
+    moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
+  }
+  return moved != 0;
+}
+
+void NeighborList::build(ParticleData& p, const Box& box) {
+  const double range = settings_.cutoff + settings_.skin;
+  if (builds_ == 0 || box.len.x != grid_box_.len.x || box.len.y != grid_box_.len.y ||
+      box.len.z != grid_box_.len.z) {
+    grid_ = CellGrid(box, range);
+    grid_box_ = box;
+  }
+  const std::size_t n = p.n_local;
+  const std::size_t nc = grid_.num_cells();
+
+  // Counting sort of particles by cell. Stable, so the order is a function of positions alone.
+  cell_index_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) cell_index_[i] = static_cast<std::uint32_t>(grid_.cell_of(p.x[i], p.y[i], p.z[i]));
+  cell_start_.assign(nc + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
+  for (std::size_t c = 0; c < nc; ++c) cell_start_[c + 1] += cell_start_[c];
+  order_.resize(n);
+  {
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order_[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  if (settings_.sort) {
+    p.permute(order_);
+    for (std::size_t k = 0; k < n; ++k) {
+      order_[k] = static_cast<std::uint32_t>(k);
+    }
+    std::vector<std::uint32_t> sorted_cells(n);
+    for (std::size_t c = 0; c < nc; ++c)
+      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) sorted_cells[k] = static_cast<std::uint32_t>(c);
+    cell_index_.swap(sorted_cells);
+  }
+  // order_[k] is the storage index of the k-th particle in cell order.
+
+  const double ilx = 1.0 / box.len.x, ily = 1.0 / box.len.y, ilz = 1.0 / box.len.z;
+  const double range2 = range * range;
+
+  // Two passes (count, then fill) so rows can be written in parallel into one contiguous array.
+  // Grids with three or more cells per direction use the half stencil (own cell with j > i, plus 13
+  // forward cells); smaller grids visit each distinct neighbour cell and keep pairs with j > i.
+  const bool half = grid_.has_half_stencil() && settings_.sort;
+  auto visit = [&](std::size_t i, auto&& emit) {
+    const double xi = p.x[i], yi = p.y[i], zi = p.z[i];
+    auto scan = [&](std::uint32_t k0, std::uint32_t k1) {
+      for (std::uint32_t k = k0; k < k1; ++k) {
+        const std::uint32_t j = order_[k];
+        const double dx = minimum_image(xi - p.x[j], box.len.x, ilx);
+        const double dy = minimum_image(yi - p.y[j], box.len.y, ily);
+        const double dz = minimum_image(zi - p.z[j], box.len.z, ilz);
+        if (dx * dx + dy * dy + dz * dz < range2) emit(j);
+      }
+    };
+    const int c = static_cast<int>(cell_index_[i]);
+    if (half) {
+      // Sorted storage: particle i sits at position i of the cell order.
+      scan(static_cast<std::uint32_t>(i) + 1, cell_start_[static_cast<std::size_t>(c) + 1]);
+      for (int nc2 : grid_.half_stencil(c))
+        scan(cell_start_[static_cast<std::size_t>(nc2)], cell_start_[static_cast<std::size_t>(nc2) + 1]);
+      return;
+    }
+    for (int nc2 : grid_.stencil(c)) {
+      for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
+        const std::uint32_t j = order_[k];
+        if (j <= i) continue;
+        const double dx = minimum_image(xi - p.x[j], box.len.x, ilx);
+        const double dy = minimum_image(yi - p.y[j], box.len.y, ily);
+        const double dz = minimum_image(zi - p.z[j], box.len.z, ilz);
+        if (dx * dx + dy * dy + dz * dz < range2) emit(j);
+      }
+    }
+  };
+  counts_.assign(n + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t count = 0;
+    visit(i, [&](std::uint32_t) { ++count; });
+    counts_[i + 1] = count;
+  }
+  offsets_.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i + 1];
+  neighbors_.resize(offsets_[n]);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t w = offsets_[i];
+    visit(i, [&](std::uint32_t j) { neighbors_[w++] = j; });
+  }
+
+  x0_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n));
+  y0_.assign(p.y.begin(), p.y.begin() + static_cast<std::ptrdiff_t>(n));
+  z0_.assign(p.z.begin(), p.z.begin() + static_cast<std::ptrdiff_t>(n));
+  ++builds_;
+}
+
+}  // namespace mesodpd

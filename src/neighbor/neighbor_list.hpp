@@ -1,0 +1,45 @@
+// Half neighbour list (each unordered pair once) with a Verlet skin, built in O(N) from a cell grid.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+#include "neighbor/cell_grid.hpp"
+
+namespace mesodpd {
+
+struct NeighborSettings {
+  double cutoff = 1.0;  // largest interaction range
+  double skin = 0.3;    // extra shell; the list stays valid until some particle moves skin/2
+  bool sort = true;     // reorder particles by cell at each rebuild (memory locality)
+};
+
+class NeighborList {
+ public:
+  explicit NeighborList(NeighborSettings s) : settings_(s) {}
+
+  // True when some particle moved more than skin/2 since the last build (or none was built).
+  bool needs_rebuild(const ParticleData& p, const Box& box) const;
+
+  // Optionally sorts `p` by cell, then lists every pair i < j (in storage order) whose
+  // minimum-image distance is below cutoff + skin.
+  void build(ParticleData& p, const Box& box);
+
+  // Row i holds the partners j of particle i: neighbors()[offsets()[i] .. offsets()[i+1]).
+  const std::vector<std::uint32_t>& offsets() const { return offsets_; }
+  const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
+  std::uint64_t builds() const { return builds_; }
+  const NeighborSettings& settings() const { return settings_; }
+
+ private:
+  NeighborSettings settings_;
+  CellGrid grid_;
+  Box grid_box_;
+  std::vector<std::uint32_t> cell_start_, cell_index_, order_;
+  std::vector<std::uint32_t> offsets_, neighbors_, counts_;
+  std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  std::uint64_t builds_ = 0;
+};
+
+}  // namespace mesodpd

@@ -1,0 +1,107 @@
+// Unit tests of the DPD force law and the pair noise: symmetry, r = 0, F = -dU/dr, noise moments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/philox.hpp"
+#include "physics/dpd_pair.hpp"
+
+using namespace mesodpd;
+
+namespace {
+DpdPairParams params(double s, double rc = 1.0, double rd = 1.0) {
+  DpdPairParams p;
+  p.a = 25.0;
+  p.gamma = 4.5;
+  p.sigma = std::sqrt(2 * 4.5);
+  p.rc = rc;
+  p.rd = rd;
+  p.s = s;
+  const double m = std::max(rc, rd);
+  p.rcut2 = m * m;
+  return p;
+}
+}  // namespace
+
+TEST(PairForce, NoNanAtZeroDistance) {
+  const DpdPairForce f = dpd_pair_force(params(2.0), 0.0, 0.0, 1.0, 5.0);
+  EXPECT_EQ(f.fc, 0.0);
+  EXPECT_EQ(f.fd, 0.0);
+  EXPECT_EQ(f.fr, 0.0);
+  EXPECT_FALSE(std::isnan(f.energy));
+}
+
+TEST(PairForce, ConservativeIsMinusGradientOfEnergy) {
+  for (double rc : {1.0, 1.3}) {
+    const DpdPairParams p = params(2.0, rc, 1.0);
+    for (double r = 0.05; r < rc - 0.01; r += 0.05) {
+      const double h = 1e-6;
+      const double up = dpd_pair_force(p, r + h, 0, 0, 1).energy, um = dpd_pair_force(p, r - h, 0, 0, 1).energy;
+      const double fd = -(up - um) / (2 * h);
+      EXPECT_NEAR(dpd_pair_force(p, r, 0, 0, 1).fc, fd, 1e-7 * p.a) << "r = " << r;
+    }
+    EXPECT_EQ(dpd_pair_force(p, rc + 1e-12, 0, 0, 1).fc, 0.0);
+  }
+}
+
+TEST(PairForce, WeightFunctionsSatisfyFluctuationDissipation) {
+  // w_D = w_R^2 for every exponent (seed 000 Eq. 6): compare fd/gamma with (fr/sigma)^2 at unit rv, xi.
+  for (double s : {2.0, 1.0, 0.5, 0.25, 1.7}) {
+    const DpdPairParams p = params(s, 1.0, 1.3);
+    for (double r = 0.1; r < 1.3; r += 0.1) {
+      const DpdPairForce f = dpd_pair_force(p, r, -1.0, 1.0, 1.0);
+      const double wd = f.fd / p.gamma, wr = f.fr / p.sigma;
+      EXPECT_NEAR(wd, wr * wr, 1e-12) << "s = " << s << " r = " << r;
+      EXPECT_NEAR(wd, std::pow(1 - r / 1.3, s), 1e-12);
+    }
+  }
+}
+
+TEST(PairNoise, SymmetricInIdsAndDifferentForOtherPairsOrSteps) {
+  for (std::uint32_t i = 1; i < 50; ++i)
+    for (std::uint32_t j = i + 1; j < 60; j += 7) {
+      EXPECT_EQ(pair_noise(7, 11, i, j, NoiseKind::Uniform), pair_noise(7, 11, j, i, NoiseKind::Uniform));
+      EXPECT_EQ(pair_noise(7, 11, i, j, NoiseKind::Gaussian), pair_noise(7, 11, j, i, NoiseKind::Gaussian));
+    }
+  EXPECT_NE(pair_noise(7, 11, 1, 2, NoiseKind::Uniform), pair_noise(7, 12, 1, 2, NoiseKind::Uniform));
+  EXPECT_NE(pair_noise(7, 11, 1, 2, NoiseKind::Uniform), pair_noise(8, 11, 1, 2, NoiseKind::Uniform));
+  EXPECT_NE(pair_noise(7, 11, 1, 2, NoiseKind::Uniform), pair_noise(7, 11, 1, 3, NoiseKind::Uniform));
+}
+
+TEST(PairNoise, PhiloxKnownAnswer) {
+  // Known-answer vectors of Philox-4x32-10 (Salmon et al., Random123 distribution).
+  const Philox4x32 z = philox4x32_10(Philox4x32{{0, 0, 0, 0}}, 0, 0);
+  EXPECT_EQ(z.v[0], 0x6627e8d5u);
+  EXPECT_EQ(z.v[1], 0xe169c58du);
+  EXPECT_EQ(z.v[2], 0xbc57ac4cu);
+  EXPECT_EQ(z.v[3], 0x9b00dbd8u);
+  const Philox4x32 pi = philox4x32_10(Philox4x32{{0x243f6a88u, 0x85a308d3u, 0x13198a2eu, 0x03707344u}},
+                                      0xa4093822u, 0x299f31d0u);
+  EXPECT_EQ(pi.v[0], 0xd16cfe09u);
+  EXPECT_EQ(pi.v[1], 0x94fdccebu);
+  EXPECT_EQ(pi.v[2], 0x5001e420u);
+  EXPECT_EQ(pi.v[3], 0x24126ea1u);
+}
+
+TEST(PairNoise, ZeroMeanUnitVarianceAndNoCorrelation) {
+  // 400k draws: standard error of the mean 1/sqrt(n) = 0.0016; assert within 5 standard errors.
+  for (NoiseKind kind : {NoiseKind::Uniform, NoiseKind::Gaussian}) {
+    const int n = 400000;
+    double s1 = 0, s2 = 0, s4 = 0, lag = 0, prev = 0;
+    for (int k = 0; k < n; ++k) {
+      const double x = pair_noise(99, static_cast<std::uint64_t>(k / 1000), static_cast<std::uint32_t>(k % 1000), 5000, kind);
+      s1 += x;
+      s2 += x * x;
+      s4 += x * x * x * x;
+      lag += x * prev;
+      prev = x;
+    }
+    const double se = 1.0 / std::sqrt(n);
+    EXPECT_NEAR(s1 / n, 0.0, 5 * se);
+    EXPECT_NEAR(s2 / n, 1.0, 5 * se * std::sqrt(2.0));
+    EXPECT_NEAR(lag / n, 0.0, 5 * se);
+    // Fourth moment distinguishes the distributions: 9/5 for the uniform, 3 for the Gaussian.
+    EXPECT_NEAR(s4 / n, kind == NoiseKind::Uniform ? 1.8 : 3.0, 0.05);
+  }
+}

@@ -1,0 +1,40 @@
+// Shared helpers for the test suite: standard specs built in code, and small utilities.
+#pragma once
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd::test {
+
+// One-species DPD fluid at density rho in an lx x ly x lz box (seed 000 Sect. 2 parameters by default).
+inline SimulationSpec fluid_spec(double lx, double ly, double lz, double rho, double a = 25.0, double gamma = 4.5,
+                                 double dt = 0.04, double s = 2.0) {
+  SimulationSpec spec;
+  spec.source = "test";
+  spec.box = {lx, ly, lz};
+  spec.kT = 1.0;
+  spec.seed = 20261123;
+  SpeciesSpec sp;
+  sp.name = "A";
+  sp.mass = 1.0;
+  sp.count = static_cast<std::uint64_t>(std::llround(rho * lx * ly * lz));
+  spec.species = {sp};
+  PairSpec pp;
+  pp.a = a;
+  pp.gamma = gamma;
+  pp.s = s;
+  spec.pairs = {pp};
+  spec.dt = dt;
+  spec.thermo_every = 10;
+  spec.progress = false;
+  return spec;
+}
+
+inline std::string env_or(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::string(v) : fallback;
+}
+
+}  // namespace mesodpd::test
