@@ -32,9 +32,8 @@ inline SimulationSpec fluid_spec(double lx, double ly, double lz, double rho, do
   return spec;
 }
 
-inline std::string env_or(const char* name, const std::string& fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::string(v) : fallback;
-}
+// The mesodpd program and the source tree, fixed at configure time (tests/CMakeLists.txt).
+inline std::string mesodpd_bin() { return MESODPD_BIN_PATH; }
+inline std::string source_dir() { return MESODPD_SOURCE_DIR; }
 
 }  // namespace mesodpd::test

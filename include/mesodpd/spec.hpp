@@ -92,9 +92,8 @@ struct SimulationSpec {
   double max_velocity = 1.0e3;                  // [run] max_velocity: blow-up threshold on |v|
   int threads = 0;                              // [run] threads (0 = OpenMP default)
 
-  NeighborMethod neighbor = NeighborMethod::Verlet;  // [neighbor] method
-  double skin = 0.3;                            // [neighbor] skin
-  std::uint64_t sort_every = 0;                 // [neighbor] sort_every (0 = at every rebuild)
+  NeighborMethod neighbor = NeighborMethod::Cells;  // [neighbor] method
+  double skin = 0.3;                            // [neighbor] skin (verlet only)
 
   std::uint64_t thermo_every = 100;             // [output] thermo_every
   std::uint64_t checkpoint_every = 0;           // [output] checkpoint_every (0 = only at the end)

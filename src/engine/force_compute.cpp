@@ -26,7 +26,7 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   if (buffers_.size() != static_cast<std::size_t>(nthreads)) buffers_.resize(static_cast<std::size_t>(nthreads));
   const double inv_sqrt_dt = 1.0 / std::sqrt(dt);
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;
-  const double ilx = 1.0 / lx, ily = 1.0 / ly, ilz = 1.0 / lz;
+  const double hlx = 0.5 * lx, hly = 0.5 * ly, hlz = 0.5 * lz;  // half lengths
   const std::uint32_t* off = list.offsets().data();
   const std::uint32_t* nbr = list.neighbors().data();
   const int ns = table_.n_species;
@@ -56,9 +56,9 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       const DpdPairParams* row = params + sp[i] * ns;
       for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) {
         const std::uint32_t j = nbr[k];
-        const double dx = minimum_image(xi - x[j], lx, ilx);
-        const double dy = minimum_image(yi - y[j], ly, ily);
-        const double dz = minimum_image(zi - z[j], lz, ilz);
+        const double dx = minimum_image(xi - x[j], lx, hlx);
+        const double dy = minimum_image(yi - y[j], ly, hly);
+        const double dz = minimum_image(zi - z[j], lz, hlz);
         const double r2 = dx * dx + dy * dy + dz * dz;
         const DpdPairParams& pp = row[sp[j]];
         if (r2 >= pp.rcut2) continue;

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -57,12 +58,19 @@ void load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
   }
 }
 
+void zero_velocities(ParticleData& p) {
+  std::fill(p.vx.begin(), p.vx.end(), 0.0);
+  std::fill(p.vy.begin(), p.vy.end(), 0.0);
+  std::fill(p.vz.begin(), p.vz.end(), 0.0);
+}
+
 }  // namespace
 
 void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
   if (!spec.data_file.empty()) {
     load_data_file(spec, box, p);
-    if (spec.init_velocities) assign_maxwell_velocities(spec, p);
+    if (spec.velocities == VelocityInit::Maxwell) assign_maxwell_velocities(spec, p);
+    if (spec.velocities == VelocityInit::Zero) zero_velocities(p);
     return;
   }
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
@@ -105,7 +113,10 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
       }
     }
   }
-  assign_maxwell_velocities(spec, p);
+  if (spec.velocities == VelocityInit::Zero)
+    zero_velocities(p);
+  else
+    assign_maxwell_velocities(spec, p);
 }
 
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {

@@ -1,6 +1,10 @@
 // Cell-binned construction of the half Verlet list, with optional spatial sorting.
 #include "neighbor/neighbor_list.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
+
 
 namespace mesodpd {
 
@@ -8,14 +12,14 @@ bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
   if (builds_ == 0 || x0_.size() != p.n_local) return true;
   if (settings_.skin <= 0.0) return true;
   const double limit2 = 0.25 * settings_.skin * settings_.skin;
-  const double ilx = 1.0 / box.len.x, ily = 1.0 / box.len.y, ilz = 1.0 / box.len.z;
+  const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
   const std::size_t n = p.n_local;
   int moved = 0;
 #pragma omp parallel for reduction(| : moved) schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, ilx);
-    const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, ily);
-    const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, ilz);
+    const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, hlx);
+    const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, hly);
+    const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
     moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
   }
   return moved != 0;
@@ -54,7 +58,7 @@ void NeighborList::build(ParticleData& p, const Box& box) {
   }
   // order_[k] is the storage index of the k-th particle in cell order.
 
-  const double ilx = 1.0 / box.len.x, ily = 1.0 / box.len.y, ilz = 1.0 / box.len.z;
+  const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
   const double range2 = range * range;
 
   // Two passes (count, then fill) so rows can be written in parallel into one contiguous array.
@@ -66,9 +70,9 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     auto scan = [&](std::uint32_t k0, std::uint32_t k1) {
       for (std::uint32_t k = k0; k < k1; ++k) {
         const std::uint32_t j = order_[k];
-        const double dx = minimum_image(xi - p.x[j], box.len.x, ilx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, ily);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, ilz);
+        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
+        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
+        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     };
@@ -84,27 +88,42 @@ void NeighborList::build(ParticleData& p, const Box& box) {
       for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
         const std::uint32_t j = order_[k];
         if (j <= i) continue;
-        const double dx = minimum_image(xi - p.x[j], box.len.x, ilx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, ily);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, ilz);
+        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
+        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
+        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     }
   };
-  counts_.assign(n + 1, 0);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t count = 0;
-    visit(i, [&](std::uint32_t) { ++count; });
-    counts_[i + 1] = count;
-  }
+  // One pass: each thread lists its contiguous block of rows into its own buffer, then the blocks are
+  // concatenated in thread order, so the list is the same whatever the thread count.
   offsets_.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i + 1];
-  neighbors_.resize(offsets_[n]);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t w = offsets_[i];
-    visit(i, [&](std::uint32_t j) { neighbors_[w++] = j; });
+#pragma omp parallel
+  {
+    const int nt = omp_get_num_threads(), t = omp_get_thread_num();
+    const std::size_t lo = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
+    const std::size_t hi = n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(nt);
+#pragma omp single
+    thread_rows_.resize(static_cast<std::size_t>(nt));
+    std::vector<std::uint32_t>& rows = thread_rows_[static_cast<std::size_t>(t)];
+    rows.clear();
+    for (std::size_t i = lo; i < hi; ++i) {
+      visit(i, [&](std::uint32_t j) { rows.push_back(j); });
+      offsets_[i + 1] = static_cast<std::uint32_t>(rows.size());
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      std::uint32_t base = 0;
+      for (int u = 0; u < nt; ++u) {
+        const std::size_t ulo = n * static_cast<std::size_t>(u) / static_cast<std::size_t>(nt);
+        const std::size_t uhi = n * static_cast<std::size_t>(u + 1) / static_cast<std::size_t>(nt);
+        for (std::size_t i = ulo; i < uhi; ++i) offsets_[i + 1] += base;
+        base += static_cast<std::uint32_t>(thread_rows_[static_cast<std::size_t>(u)].size());
+      }
+      neighbors_.resize(base);
+    }
+    if (!rows.empty()) std::copy(rows.begin(), rows.end(), neighbors_.begin() + offsets_[lo]);
   }
 
   x0_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n));

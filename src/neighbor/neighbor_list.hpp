@@ -37,7 +37,8 @@ class NeighborList {
   CellGrid grid_;
   Box grid_box_;
   std::vector<std::uint32_t> cell_start_, cell_index_, order_;
-  std::vector<std::uint32_t> offsets_, neighbors_, counts_;
+  std::vector<std::uint32_t> offsets_, neighbors_;
+  std::vector<std::vector<std::uint32_t>> thread_rows_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   std::uint64_t builds_ = 0;
 };

@@ -46,9 +46,9 @@ PairSet brute_force_pairs(const ParticleData& p, const Box& box, double range) {
   PairSet out;
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t j = i + 1; j < p.n_local; ++j) {
-      const double dx = minimum_image(p.x[i] - p.x[j], box.len.x, 1 / box.len.x);
-      const double dy = minimum_image(p.y[i] - p.y[j], box.len.y, 1 / box.len.y);
-      const double dz = minimum_image(p.z[i] - p.z[j], box.len.z, 1 / box.len.z);
+      const double dx = minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x);
+      const double dy = minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y);
+      const double dz = minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z);
       if (dx * dx + dy * dy + dz * dz < range * range)
         out.insert({std::min(p.id[i], p.id[j]), std::max(p.id[i], p.id[j])});
     }
@@ -123,9 +123,9 @@ TEST(Forces, EngineEqualsReferenceWithVelocities) {
       double f[3] = {0, 0, 0};
       for (std::size_t j = 0; j < p.n_local; ++j) {
         if (i == j) continue;
-        const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 1 / box.len.x),
-                             minimum_image(p.y[i] - p.y[j], box.len.y, 1 / box.len.y),
-                             minimum_image(p.z[i] - p.z[j], box.len.z, 1 / box.len.z)};
+        const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x),
+                             minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y),
+                             minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z)};
         const double v[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
         const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (r >= 1.3 || r == 0) continue;

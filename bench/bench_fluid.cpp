@@ -1,0 +1,85 @@
+// Throughput benchmark: particle-steps per second of the standard DPD fluid (rho = 3, a = 25,
+// gamma = 4.5, kT = 1, dt = 0.04, modified velocity-Verlet) for chosen sizes, threads and neighbour settings.
+#include <fmt/format.h>
+#include <omp.h>
+#include <sys/utsname.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "engine/simulation.hpp"
+
+namespace {
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+mesodpd::SimulationSpec fluid(std::uint64_t n, double skin, bool verlet) {
+  mesodpd::SimulationSpec s;
+  const double len = std::cbrt(static_cast<double>(n) / 3.0);
+  s.box = {len, len, len};
+  s.species.resize(1);
+  s.species[0].name = "A";
+  s.species[0].count = n;
+  s.pairs.resize(1);
+  s.dt = 0.04;
+  s.skin = skin;
+  s.neighbor = verlet ? mesodpd::NeighborMethod::Verlet : mesodpd::NeighborMethod::Cells;
+  s.progress = false;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"mesodpd fluid throughput benchmark"};
+  std::vector<std::uint64_t> sizes{3000, 98304};
+  std::vector<int> threads{1, 2};
+  int steps = 200, warmup = 50;
+  double skin = 0.3;
+  std::string method = "verlet";
+  app.add_option("--n", sizes, "particle counts (box chosen for rho = 3)");
+  app.add_option("--threads", threads, "thread counts");
+  app.add_option("--steps", steps, "timed steps");
+  app.add_option("--warmup", warmup, "untimed steps first (equilibrates the random start)");
+  app.add_option("--skin", skin, "Verlet skin");
+  app.add_option("--method", method, "verlet | cells")->check(CLI::IsMember({"verlet", "cells"}));
+  CLI11_PARSE(app, argc, argv);
+
+  utsname u{};
+  uname(&u);
+  fmt::print("# machine: {} ({} logical CPUs), {} {}\n", cpu_model(), omp_get_num_procs(), u.sysname, u.release);
+  fmt::print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, double precision, method={} skin={}\n", method,
+             method == "verlet" ? skin : 0.0);
+  fmt::print("{:>9} {:>7} {:>7} {:>14} {:>12} {:>10} {:>10}\n", "N", "threads", "steps", "particle-steps/s",
+             "ns/particle", "rebuilds", "bytes/part");
+  for (std::uint64_t n : sizes)
+    for (int t : threads) {
+      omp_set_num_threads(t);
+      mesodpd::Simulation sim(fluid(n, skin, method == "verlet"), mesodpd::RunOptions{});
+      for (int k = 0; k < warmup; ++k) sim.step();
+      const auto b0 = sim.neighbor_list().builds();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 0; k < steps; ++k) sim.step();
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double np = static_cast<double>(sim.particles().n_local);
+      const double rate = np * steps / secs;
+      const auto& p = sim.particles();
+      const auto& nl = sim.neighbor_list();
+      const double bytes = static_cast<double>(16 * 8 * p.x.capacity() + 4 * p.id.capacity() +
+                                               4 * nl.neighbors().capacity() + 4 * nl.offsets().capacity() +
+                                               24 * t * p.x.capacity()) / np;
+      fmt::print("{:>9} {:>7} {:>7} {:>14.4g} {:>12.1f} {:>10} {:>10.0f}\n", sim.particles().n_local, t, steps, rate,
+                 1e9 / rate, nl.builds() - b0, bytes);
+      std::fflush(stdout);
+    }
+  return 0;
+}

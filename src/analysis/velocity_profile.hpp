@@ -1,0 +1,82 @@
+// Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace mesodpd {
+
+struct ViscosityFit {
+  double eta;          // viscosity from the fit to the profile averaged over all samples
+  double eta_err;      // standard error from the spread of per-block fits; NaN if blocks_used < 2
+  double v_amplitude;  // fitted peak speed relative to v0, c (L/4)^2, at the middle of each half
+  int blocks_used;     // equal-size blocks behind eta_err
+};
+
+// Reverse (periodic) Poiseuille flow of Backer et al. (seed 002, "Boundary Conditions"): body
+// acceleration +g along the flow axis for gradient coordinate z in [0, L/2) and -g in [L/2, L).
+// Stokes flow in each half then gives (z' = z - L/2 in the upper half)
+//   v(z) = +c z (L/2 - z) + v0   (lower),   v(z) = -c z' (L/2 - z') + v0   (upper),
+// with c = rho_m g / (2 eta); c and v0 are fitted by linear least squares and eta = rho_m g / (2 c).
+//
+// Blocking without knowing the run length: samples go into up to 2B equal-size blocks (B = `blocks`
+// given to the constructor); when all 2B are full, neighbours are merged pairwise and the block size
+// doubles. So at any time there are between B and 2B - 1 full blocks of equal sample count, memory
+// stays O(B * bins), and ViscosityFit::blocks_used reports how many there were. The mean profile
+// uses every sample, including those of the unfinished block.
+class PoiseuilleProfile {
+ public:
+  // bins > 1 along the gradient axis of length box_len (> 0); blocks >= 2; force_g != 0 is the body
+  // acceleration (force per unit mass); mass_density > 0 is rho_m (number density for unit mass).
+  // flow_axis and gradient_axis (0, 1, 2 for x, y, z, distinct) only label the output.
+  PoiseuilleProfile(std::size_t bins, int flow_axis, int gradient_axis, double box_len, std::size_t blocks,
+                    double force_g, double mass_density);
+
+  // Adds one snapshot: gradient coordinate (wrapped into [0, L) here) and flow velocity of n particles.
+  void sample(const double* pos_gradient_coord, const double* v_flow, std::size_t n);
+
+  ViscosityFit fit() const;
+
+  std::vector<double> z() const;       // bin centres
+  std::vector<double> v_mean() const;  // mean flow velocity per bin over all samples (NaN if empty)
+  std::vector<double> v_err() const;   // standard error per bin from the full blocks (NaN if < 2)
+  std::vector<double> v_fit() const;   // fitted profile, averaged over each bin like the data
+  std::size_t samples() const { return samples_; }
+  std::size_t samples_per_block() const { return block_size_; }
+  int flow_axis() const { return flow_axis_; }
+  int gradient_axis() const { return gradient_axis_; }
+
+  void write_csv(const std::string& path) const;  // columns z,v_mean,v_err,v_fit
+
+ private:
+  struct LineFit {
+    double c;
+    double v0;
+  };
+  // Least squares of v ~ c * basis + v0 over bins with data; NaNs if fewer than two such bins.
+  LineFit fit_profile(const double* vsum, const double* count) const;
+
+  std::size_t bins_;
+  int flow_axis_;
+  int gradient_axis_;
+  double len_;
+  std::size_t blocks_;
+  double force_g_;
+  double mass_density_;
+  std::vector<double> basis_;  // exact bin average of the signed parabola z (L/2 - z)
+
+  std::size_t samples_ = 0;
+  std::size_t block_size_ = 1;       // samples per block
+  std::size_t full_blocks_ = 0;      // completed blocks, rows [0, full_blocks_) of the block arrays
+  std::size_t in_current_ = 0;       // samples in block row full_blocks_
+  std::vector<double> block_vsum_;   // 2B rows x bins: sum of flow velocity
+  std::vector<double> block_count_;  // 2B rows x bins: number of particle samples
+  std::vector<double> total_vsum_;
+  std::vector<double> total_count_;
+};
+
+// One-row CSV beside the profile for plots and reports: eta,eta_err,v_amplitude,blocks_used,eta_kinetic
+// (eta_kinetic is e.g. kinetic_viscosity() from analysis/kinetic_theory.hpp; NaN if unknown).
+void write_viscosity_summary_csv(const std::string& path, const ViscosityFit& fit, double eta_kinetic);
+
+}  // namespace mesodpd

@@ -1,0 +1,329 @@
+// Implementation of read_lammps_data: a line-oriented parser for the LAMMPS data file layout
+// (title line, header of "count keyword" lines, then sections each introduced by a keyword line).
+#include "io/lammps_data_reader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+namespace {
+
+struct Line {
+  std::size_t number = 0;           // 1-based line number in the file
+  std::vector<std::string> tokens;  // whitespace-separated words before any '#'
+  std::string comment;              // text after the first '#', trimmed
+};
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string_view::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+Line split(std::size_t number, const std::string& raw) {
+  Line line;
+  line.number = number;
+  const auto hash = raw.find('#');
+  const std::string_view body = std::string_view(raw).substr(0, hash);
+  if (hash != std::string::npos) line.comment = trim(std::string_view(raw).substr(hash + 1));
+  std::size_t pos = 0;
+  while (pos < body.size()) {
+    while (pos < body.size() && std::isspace(static_cast<unsigned char>(body[pos]))) ++pos;
+    std::size_t end = pos;
+    while (end < body.size() && !std::isspace(static_cast<unsigned char>(body[end]))) ++end;
+    if (end > pos) line.tokens.emplace_back(body.substr(pos, end - pos));
+    pos = end;
+  }
+  return line;
+}
+
+// A section keyword line starts with a letter; data and header lines start with a number.
+bool is_section_line(const Line& line) {
+  return !line.tokens.empty() && std::isalpha(static_cast<unsigned char>(line.tokens[0][0]));
+}
+
+std::string join(const std::vector<std::string>& tokens, std::size_t first) {
+  std::string out;
+  for (std::size_t k = first; k < tokens.size(); ++k) {
+    if (!out.empty()) out += ' ';
+    out += tokens[k];
+  }
+  return out;
+}
+
+class Parser {
+ public:
+  explicit Parser(const std::filesystem::path& path) : path_(path) {}
+
+  [[noreturn]] void fail(const std::string& message) const {
+    throw ConfigError("LAMMPS data file '" + path_.string() + "': " + message);
+  }
+  [[noreturn]] void fail(const Line& line, const std::string& message) const {
+    throw ConfigError("LAMMPS data file '" + path_.string() + "', line " + std::to_string(line.number) +
+                      ": " + message);
+  }
+
+  double real(const Line& line, std::size_t k, const char* what) const {
+    std::string_view s = line.tokens[k];
+    if (!s.empty() && s[0] == '+') s.remove_prefix(1);  // from_chars rejects an explicit '+'
+    double v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v)) {
+      fail(line,
+           std::string("cannot read ") + what + " from '" + line.tokens[k] + "' (expected a finite number)");
+    }
+    return v;
+  }
+
+  std::int64_t integer(const Line& line, std::size_t k, const char* what, std::int64_t min,
+                       std::int64_t max) const {
+    std::string_view s = line.tokens[k];
+    if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+    std::int64_t v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size()) {
+      fail(line, std::string("cannot read ") + what + " from '" + line.tokens[k] + "' (expected an integer)");
+    }
+    if (v < min || v > max) {
+      fail(line, std::string(what) + " " + std::to_string(v) + " is out of range [" + std::to_string(min) +
+                     ", " + std::to_string(max) + "]");
+    }
+    return v;
+  }
+
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct Section {
+  Line header;
+  std::vector<Line> lines;
+};
+
+}  // namespace
+
+LammpsData read_lammps_data(const std::filesystem::path& path) {
+  Parser p(path);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) p.fail("file does not exist");
+  std::ifstream in(path);
+  if (!in) p.fail("cannot open file for reading");
+
+  // Gather header lines and sections. Line 1 is a free-form title, always ignored.
+  std::vector<Line> header;
+  std::vector<Section> sections;
+  std::string raw;
+  std::size_t number = 0;
+  while (std::getline(in, raw)) {
+    ++number;
+    if (number == 1) continue;
+    Line line = split(number, raw);
+    if (line.tokens.empty()) continue;
+    if (is_section_line(line)) {
+      sections.push_back(Section{std::move(line), {}});
+    } else if (sections.empty()) {
+      header.push_back(std::move(line));
+    } else {
+      sections.back().lines.push_back(std::move(line));
+    }
+  }
+  if (in.bad()) p.fail("read error");
+
+  LammpsData data;
+  std::optional<std::int64_t> n_atoms, n_types;
+  std::array<bool, 3> have_bounds{};
+  constexpr std::int64_t kMaxCount = std::numeric_limits<std::uint32_t>::max();
+  for (const Line& line : header) {
+    const auto& t = line.tokens;
+    if (t.size() == 2 && t[1] == "atoms") {
+      n_atoms = p.integer(line, 0, "atom count", 0, kMaxCount);
+    } else if (t.size() == 3 && t[1] == "atom" && t[2] == "types") {
+      n_types = p.integer(line, 0, "atom type count", 1, std::numeric_limits<int>::max());
+    } else if (t.size() == 4 && (t[2] == "xlo" || t[2] == "ylo" || t[2] == "zlo") && t[3][0] == t[2][0] &&
+               t[3].substr(1) == "hi") {
+      const int d = t[2][0] - 'x';
+      data.lo[d] = p.real(line, 0, "lower box bound");
+      data.hi[d] = p.real(line, 1, "upper box bound");
+      if (!(data.hi[d] > data.lo[d])) p.fail(line, t[3] + " must be greater than " + t[2]);
+      have_bounds[d] = true;
+    } else if (t.size() == 6 && t[3] == "xy" && t[4] == "xz" && t[5] == "yz") {
+      // A triclinic box with all tilts zero is the orthorhombic box, so only real tilts are refused.
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (p.real(line, k, "tilt factor") != 0.0) {
+          p.fail(line, "triclinic box (nonzero xy xz yz tilt) is not supported: orthorhombic only");
+        }
+      }
+    } else if (t.size() >= 2 && std::isdigit(static_cast<unsigned char>(t[0][0]))) {
+      // Counts of things atom_style atomic does not have are fine when zero (write_data emits some).
+      static const char* const kZeroOnly[] = {"bonds",
+                                              "angles",
+                                              "dihedrals",
+                                              "impropers",
+                                              "bond types",
+                                              "angle types",
+                                              "dihedral types",
+                                              "improper types",
+                                              "extra bond per atom",
+                                              "extra angle per atom",
+                                              "extra dihedral per atom",
+                                              "extra improper per atom",
+                                              "extra special per atom",
+                                              "ellipsoids",
+                                              "lines",
+                                              "triangles",
+                                              "bodies"};
+      const std::string keyword = join(t, 1);
+      if (std::find(std::begin(kZeroOnly), std::end(kZeroOnly), keyword) == std::end(kZeroOnly)) {
+        p.fail(line, "unknown header line '" + join(t, 0) + "'");
+      }
+      if (p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<std::int64_t>::max()) != 0) {
+        p.fail(line, "'" + keyword + "' is not supported: only atom_style atomic (no bonded topology)");
+      }
+    } else {
+      p.fail(line, "unknown header line '" + join(t, 0) + "'");
+    }
+  }
+  if (!n_atoms) p.fail("header has no 'atoms' count");
+  if (!n_types) p.fail("header has no 'atom types' count");
+  for (int d = 0; d < 3; ++d) {
+    if (!have_bounds[d]) {
+      const char axis = static_cast<char>('x' + d);
+      p.fail(std::string("header has no '") + axis + "lo " + axis + "hi' box bounds");
+    }
+  }
+  data.n_types = static_cast<int>(*n_types);
+
+  const Section* atoms = nullptr;
+  const Section* masses = nullptr;
+  const Section* velocities = nullptr;
+  for (const Section& s : sections) {
+    const std::string name = join(s.header.tokens, 0);
+    const Section** slot = nullptr;
+    if (name == "Atoms") {
+      slot = &atoms;
+      if (!s.header.comment.empty() && s.header.comment != "atomic") {
+        p.fail(s.header, "atom style '" + s.header.comment + "' is not supported: only atomic");
+      }
+    } else if (name == "Masses") {
+      slot = &masses;
+    } else if (name == "Velocities") {
+      slot = &velocities;
+    } else if (name.size() > 7 && name.ends_with(" Coeffs")) {
+      continue;  // interaction parameters come from the mesodpd configuration, not the data file
+    } else {
+      p.fail(s.header,
+             "section '" + name + "' is not supported (atom_style atomic: Masses, Atoms, Velocities)");
+    }
+    if (*slot != nullptr) {
+      p.fail(s.header,
+             "second '" + name + "' section (first at line " + std::to_string((*slot)->header.number) + ")");
+    }
+    *slot = &s;
+  }
+
+  if (masses != nullptr) {
+    data.masses.assign(static_cast<std::size_t>(data.n_types), 0.0);
+    std::vector<std::size_t> seen_at(data.masses.size(), 0);
+    for (const Line& line : masses->lines) {
+      if (line.tokens.size() != 2) p.fail(line, "expected 'type mass' in Masses section");
+      const auto type = p.integer(line, 0, "atom type", 1, data.n_types);
+      const double mass = p.real(line, 1, "mass");
+      if (!(mass > 0)) p.fail(line, "mass of type " + std::to_string(type) + " must be positive");
+      auto& seen = seen_at[static_cast<std::size_t>(type - 1)];
+      if (seen != 0) {
+        p.fail(line, "mass of type " + std::to_string(type) + " given twice (first at line " +
+                         std::to_string(seen) + ")");
+      }
+      seen = line.number;
+      data.masses[static_cast<std::size_t>(type - 1)] = mass;
+    }
+    for (std::size_t t = 0; t < seen_at.size(); ++t) {
+      if (seen_at[t] == 0)
+        p.fail(masses->header, "Masses section has no mass for atom type " + std::to_string(t + 1));
+    }
+  }
+
+  if (atoms == nullptr) {
+    if (*n_atoms > 0)
+      p.fail("no Atoms section, but the header declares " + std::to_string(*n_atoms) + " atoms");
+  } else {
+    if (static_cast<std::int64_t>(atoms->lines.size()) != *n_atoms) {
+      p.fail(atoms->header, "Atoms section has " + std::to_string(atoms->lines.size()) +
+                                " lines, but the header declares " + std::to_string(*n_atoms) + " atoms");
+    }
+    data.atoms.reserve(atoms->lines.size());
+    std::unordered_map<std::uint32_t, std::size_t> line_of_id;
+    for (const Line& line : atoms->lines) {
+      const auto& t = line.tokens;
+      if (t.size() != 5 && t.size() != 8) {
+        p.fail(line, "expected 'id type x y z [ix iy iz]' (atom_style atomic), found " +
+                         std::to_string(t.size()) + " columns");
+      }
+      LammpsAtom a;
+      a.id = static_cast<std::uint32_t>(p.integer(line, 0, "atom id", 1, kMaxCount));
+      a.type = static_cast<int>(p.integer(line, 1, "atom type", 1, data.n_types));
+      a.x = p.real(line, 2, "x");
+      a.y = p.real(line, 3, "y");
+      a.z = p.real(line, 4, "z");
+      if (t.size() == 8) {
+        constexpr std::int64_t lo = std::numeric_limits<std::int32_t>::min();
+        constexpr std::int64_t hi = std::numeric_limits<std::int32_t>::max();
+        a.ix = static_cast<std::int32_t>(p.integer(line, 5, "image flag ix", lo, hi));
+        a.iy = static_cast<std::int32_t>(p.integer(line, 6, "image flag iy", lo, hi));
+        a.iz = static_cast<std::int32_t>(p.integer(line, 7, "image flag iz", lo, hi));
+      }
+      const auto [it, inserted] = line_of_id.emplace(a.id, line.number);
+      if (!inserted) {
+        p.fail(line, "duplicate atom id " + std::to_string(a.id) + " (first at line " +
+                         std::to_string(it->second) + ")");
+      }
+      data.atoms.push_back(a);
+    }
+
+    if (velocities != nullptr) {
+      if (velocities->lines.size() != data.atoms.size()) {
+        p.fail(velocities->header, "Velocities section has " + std::to_string(velocities->lines.size()) +
+                                       " lines, but there are " + std::to_string(data.atoms.size()) +
+                                       " atoms");
+      }
+      std::unordered_map<std::uint32_t, std::size_t> index_of_id;
+      for (std::size_t k = 0; k < data.atoms.size(); ++k) index_of_id.emplace(data.atoms[k].id, k);
+      data.velocities.assign(data.atoms.size(), {0, 0, 0});
+      std::vector<std::size_t> seen_at(data.atoms.size(), 0);
+      for (const Line& line : velocities->lines) {
+        if (line.tokens.size() != 4) p.fail(line, "expected 'id vx vy vz' in Velocities section");
+        const auto id = static_cast<std::uint32_t>(p.integer(line, 0, "atom id", 1, kMaxCount));
+        const auto it = index_of_id.find(id);
+        if (it == index_of_id.end())
+          p.fail(line,
+                 "velocity given for atom id " + std::to_string(id) + ", which is not in the Atoms section");
+        if (seen_at[it->second] != 0) {
+          p.fail(line, "velocity of atom id " + std::to_string(id) + " given twice (first at line " +
+                           std::to_string(seen_at[it->second]) + ")");
+        }
+        seen_at[it->second] = line.number;
+        data.velocities[it->second] = {p.real(line, 1, "vx"), p.real(line, 2, "vy"), p.real(line, 3, "vz")};
+      }
+      data.has_velocities = true;
+    }
+  }
+  if (velocities != nullptr && atoms == nullptr && !velocities->lines.empty()) {
+    p.fail(velocities->header, "Velocities section without an Atoms section");
+  }
+  return data;
+}
+
+}  // namespace mesodpd
