@@ -1,8 +1,11 @@
-// OpenMP pair loop over the half neighbour list; the force law itself lives in physics/dpd_pair.hpp.
+// OpenMP pair loop. Candidate pairs are first filtered by distance (cheap, vectorised), collected in
+// a per-thread batch, then evaluated in a few array passes — geometry, noise, the force law of
+// physics/dpd_pair.hpp, fixed-point conversion — and finally scattered into per-thread integer buffers.
 #include "engine/force_compute.hpp"
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/fixed_point.hpp"
@@ -10,29 +13,69 @@
 
 namespace mesodpd {
 
+// Pairs (i, j) waiting for evaluation, with the arrays of the evaluation passes.
+struct PairBatch {
+  static constexpr std::size_t kCapacity = 1024;
+  std::size_t m = 0;
+  alignas(64) std::uint32_t i[kCapacity];
+  alignas(64) std::uint32_t j[kCapacity];
+  alignas(64) double dx[kCapacity];
+  alignas(64) double dy[kCapacity];
+  alignas(64) double dz[kCapacity];
+  alignas(64) double r[kCapacity];
+  alignas(64) double inv_r[kCapacity];
+  alignas(64) double rv[kCapacity];
+  alignas(64) double xi[kCapacity];
+  alignas(64) std::int64_t qx[kCapacity];
+  alignas(64) std::int64_t qy[kCapacity];
+  alignas(64) std::int64_t qz[kCapacity];
+  alignas(64) double r2[kCapacity / 2];  // distance filter scratch for one chunk of candidates
+};
+
+ForceCompute::ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {
+  weight_kind_ = table_.params.empty() ? WeightKind::General : weight_kind_of(table_.params[0].s);
+  for (const DpdPairParams& q : table_.params)
+    if (weight_kind_of(q.s) != weight_kind_) weight_kind_ = WeightKind::General;
+}
+ForceCompute::~ForceCompute() = default;
+ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
+ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
+
 void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
                            double dt, bool with_sums, PairSums& sums) {
+  auto dispatch = [&]<bool kSums>() {
+    switch (weight_kind_) {
+      case WeightKind::Two: return compute_impl<kSums, WeightKind::Two>(p, box, list, step, dt, sums);
+      case WeightKind::One: return compute_impl<kSums, WeightKind::One>(p, box, list, step, dt, sums);
+      case WeightKind::Half: return compute_impl<kSums, WeightKind::Half>(p, box, list, step, dt, sums);
+      case WeightKind::Quarter: return compute_impl<kSums, WeightKind::Quarter>(p, box, list, step, dt, sums);
+      case WeightKind::General: return compute_impl<kSums, WeightKind::General>(p, box, list, step, dt, sums);
+    }
+  };
   if (with_sums)
-    compute_impl<true>(p, box, list, step, dt, sums);
+    dispatch.template operator()<true>();
   else
-    compute_impl<false>(p, box, list, step, dt, sums);
+    dispatch.template operator()<false>();
 }
 
-template <bool kSums>
+template <bool kSums, WeightKind W>
 void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
                                 double dt, PairSums& sums) {
   const std::size_t n = p.n_local;
   const int nthreads = omp_get_max_threads();
-  if (buffers_.size() != static_cast<std::size_t>(nthreads)) buffers_.resize(static_cast<std::size_t>(nthreads));
+  buffers_.resize(static_cast<std::size_t>(nthreads));
+  while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());
   const double inv_sqrt_dt = 1.0 / std::sqrt(dt);
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;
   const double hlx = 0.5 * lx, hly = 0.5 * ly, hlz = 0.5 * lz;  // half lengths
-  const std::uint32_t* off = list.offsets().data();
-  const std::uint32_t* nbr = list.neighbors().data();
   const int ns = table_.n_species;
   const DpdPairParams* params = table_.params.data();
   const std::uint64_t seed = noise_.seed;
   const NoiseKind kind = noise_.kind;
+  // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
+  // because the filter's displacement was rounded differently.
+  const double filter2 = table_.max_cutoff * table_.max_cutoff * (1.0 + 1e-10);
+
 
   // Integer sums: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
   std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -40,59 +83,138 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
 #pragma omp parallel num_threads(nthreads)
   {
     const int t = omp_get_thread_num();
-    std::vector<std::int64_t>& buf = buffers_[static_cast<std::size_t>(t)];
-    buf.assign(3 * n, 0);
+    std::vector<std::int64_t>& bufv = buffers_[static_cast<std::size_t>(t)];
+    bufv.assign(3 * n, 0);
+    std::int64_t* buf = bufv.data();
+    PairBatch& b = *batches_[static_cast<std::size_t>(t)];
+    b.m = 0;
     std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const double *x = p.x.data(), *y = p.y.data(), *z = p.z.data();
-    const double *vx = p.vx.data(), *vy = p.vy.data(), *vz = p.vz.data();
-    const std::int32_t* sp = p.species.data();
-    const std::uint32_t* id = p.id.data();
+    const double* __restrict x = p.x.data();
+    const double* __restrict y = p.y.data();
+    const double* __restrict z = p.z.data();
+    const double* __restrict vx = p.vx.data();
+    const double* __restrict vy = p.vy.data();
+    const double* __restrict vz = p.vz.data();
+    const std::int32_t* __restrict sp = p.species.data();
+    const std::uint32_t* __restrict id = p.id.data();
 
-#pragma omp for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      std::int64_t fix = 0, fiy = 0, fiz = 0;
-      const double xi = x[i], yi = y[i], zi = z[i];
-      const double vxi = vx[i], vyi = vy[i], vzi = vz[i];
-      const DpdPairParams* row = params + sp[i] * ns;
-      for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) {
-        const std::uint32_t j = nbr[k];
-        const double dx = minimum_image(xi - x[j], lx, hlx);
-        const double dy = minimum_image(yi - y[j], ly, hly);
-        const double dz = minimum_image(zi - z[j], lz, hlz);
-        const double r2 = dx * dx + dy * dy + dz * dz;
-        const DpdPairParams& pp = row[sp[j]];
-        if (r2 >= pp.rcut2) continue;
-        const double r = std::sqrt(r2);
+    // Evaluate and scatter every pair in the batch. Each pass is a simple loop over arrays.
+    auto flush = [&] {
+      const std::size_t m = b.m;
+      // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::uint32_t i = b.i[k], j = b.j[k];
+        const double dx = minimum_image(x[i] - x[j], lx, hlx);
+        const double dy = minimum_image(y[i] - y[j], ly, hly);
+        const double dz = minimum_image(z[i] - z[j], lz, hlz);
+        const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
         const double inv_r = r > 0.0 ? 1.0 / r : 0.0;
-        const double rv = (dx * (vxi - vx[j]) + dy * (vyi - vy[j]) + dz * (vzi - vz[j])) * inv_r;
-        const double xi_ij = pair_noise(seed, step, id[i], id[j], kind);
-        const DpdPairForce f = dpd_pair_force(pp, r, rv, xi_ij, inv_sqrt_dt);
-        const double scale = (f.fc + f.fd + f.fr) * inv_r;
-        const double fx = scale * dx, fy = scale * dy, fz = scale * dz;
-        const std::int64_t qx = to_fixed(fx, kForceScale), qy = to_fixed(fy, kForceScale);
-        const std::int64_t qz = to_fixed(fz, kForceScale);
-        fix += qx;
-        fiy += qy;
-        fiz += qz;
-        buf[3 * j] -= qx;
-        buf[3 * j + 1] -= qy;
-        buf[3 * j + 2] -= qz;
+        b.dx[k] = dx;
+        b.dy[k] = dy;
+        b.dz[k] = dz;
+        b.r[k] = r;
+        b.inv_r[k] = inv_r;
+        b.rv[k] = (dx * (vx[i] - vx[j]) + dy * (vy[i] - vy[j]) + dz * (vz[i] - vz[j])) * inv_r;
+      }
+      // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
+      if (kind == NoiseKind::Uniform) {
+        for (std::size_t k = 0; k < m; ++k) b.xi[k] = pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Uniform);
+      } else {
+        for (std::size_t k = 0; k < m; ++k) b.xi[k] = pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Gaussian);
+      }
+      // Pass 3: the force law and the fixed-point conversion.
+      for (std::size_t k = 0; k < m; ++k) {
+        const DpdPairParams& pp = ns == 1 ? params[0] : params[sp[b.i[k]] * ns + sp[b.j[k]]];
+        const DpdPairForce f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt);
+        const double scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
+        const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
+        b.qx[k] = to_fixed(fx, kForceScale);
+        b.qy[k] = to_fixed(fy, kForceScale);
+        b.qz[k] = to_fixed(fz, kForceScale);
         if constexpr (kSums) {
-          local[0] += to_fixed(dx * fx, kVirialScale);
-          local[1] += to_fixed(dy * fy, kVirialScale);
-          local[2] += to_fixed(dz * fz, kVirialScale);
-          local[3] += to_fixed(dx * fy, kVirialScale);
-          local[4] += to_fixed(dx * fz, kVirialScale);
-          local[5] += to_fixed(dy * fz, kVirialScale);
-          local[6] += to_fixed(f.fc * r, kVirialScale);
+          const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
+          local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
+          local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
+          local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
+          local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
+          local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
+          local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
+          local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
           local[7] += to_fixed(f.energy, kVirialScale);
-          local[8] += 1;
+          local[8] += in_range ? 1 : 0;
         }
       }
-      buf[3 * i] += fix;
-      buf[3 * i + 1] += fiy;
-      buf[3 * i + 2] += fiz;
+      // Pass 4: scatter (integer adds: the order does not matter).
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t i = b.i[k], j = b.j[k];
+        buf[3 * i] += b.qx[k];
+        buf[3 * i + 1] += b.qy[k];
+        buf[3 * i + 2] += b.qz[k];
+        buf[3 * j] -= b.qx[k];
+        buf[3 * j + 1] -= b.qy[k];
+        buf[3 * j + 2] -= b.qz[k];
+      }
+      b.m = 0;
+    };
+    // Distance filter of particle i against partners [j0, j1), whose nearest images are shifted by
+    // (sx, sy, sz) relative to their stored positions. Branch-free append of the survivors.
+    auto filter_chunk = [&](std::uint32_t i, std::uint32_t j0, std::uint32_t j1, double sx, double sy, double sz) {
+      const std::size_t cnt = j1 - j0;  // at most kChunk
+      const double xs = x[i] - sx, ys = y[i] - sy, zs = z[i] - sz;
+      double* __restrict r2 = b.r2;
+      const double* __restrict xj = x + j0;
+      const double* __restrict yj = y + j0;
+      const double* __restrict zj = z + j0;
+      for (std::size_t k = 0; k < cnt; ++k) {
+        const double dx = xs - xj[k], dy = ys - yj[k], dz = zs - zj[k];
+        r2[k] = dx * dx + dy * dy + dz * dz;
+      }
+      if (b.m + cnt > PairBatch::kCapacity) flush();
+      std::size_t m = b.m;
+      for (std::size_t k = 0; k < cnt; ++k) {
+        b.i[m] = i;
+        b.j[m] = static_cast<std::uint32_t>(j0 + k);
+        m += r2[k] < filter2 ? 1 : 0;
+      }
+      b.m = m;
+    };
+    // Dense cells (a collapsed or strongly inhomogeneous system) are taken in chunks that fit the batch.
+    constexpr std::uint32_t kChunk = PairBatch::kCapacity / 2;
+    auto filter = [&](std::uint32_t i, std::uint32_t j0, std::uint32_t j1, double sx, double sy, double sz) {
+      for (std::uint32_t a = j0; a < j1; a += kChunk) filter_chunk(i, a, std::min(j1, a + kChunk), sx, sy, sz);
+    };
+
+    if (list.cells_only()) {
+      // Cell pairs: particle i against the rest of its own cell and the 13 forward neighbour cells.
+      const CellGrid& grid = list.grid();
+      const std::uint32_t* start = list.cell_start().data();
+      const std::size_t ncells = grid.num_cells();
+#pragma omp for schedule(static)
+      for (std::size_t c = 0; c < ncells; ++c) {
+        const std::vector<CellRun>& runs = grid.half_runs(static_cast<int>(c));
+        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) {
+          // The first run begins with the own cell, where only partners after i count.
+          filter(i, i + 1, start[runs[0].last + 1], 0.0, 0.0, 0.0);
+          for (std::size_t r = 1; r < runs.size(); ++r) {
+            const CellRun& e = runs[r];
+            filter(i, start[e.first], start[e.last + 1], e.wx * lx, e.wy * ly, e.wz * lz);
+          }
+        }
+      }
+    } else {
+      const std::uint32_t* off = list.offsets().data();
+      const std::uint32_t* nbr = list.neighbors().data();
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) {
+          if (b.m == PairBatch::kCapacity) flush();
+          b.i[b.m] = static_cast<std::uint32_t>(i);
+          b.j[b.m] = nbr[k];
+          ++b.m;
+        }
+      }
     }
+    flush();
     if constexpr (kSums) {
 #pragma omp critical
       for (int q = 0; q < 9; ++q) total[q] += local[q];  // integer sums: order does not matter
@@ -103,10 +225,10 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
     for (std::size_t i = 0; i < n; ++i) {
       std::int64_t sx = 0, sy = 0, sz = 0;
       for (int u = 0; u < nthreads; ++u) {
-        const std::int64_t* b = buffers_[static_cast<std::size_t>(u)].data();
-        sx += b[3 * i];
-        sy += b[3 * i + 1];
-        sz += b[3 * i + 2];
+        const std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
+        sx += bu[3 * i];
+        sy += bu[3 * i + 1];
+        sz += bu[3 * i + 2];
       }
       p.fx[i] = static_cast<double>(sx) * kForceUnscale;
       p.fy[i] = static_cast<double>(sy) * kForceUnscale;

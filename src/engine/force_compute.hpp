@@ -1,8 +1,9 @@
-// The pair-force stage: evaluates the DPD force law over the neighbour list on the OpenMP backend,
+// The pair-force stage: evaluates the DPD force law over candidate pairs on the OpenMP backend,
 // accumulating in fixed point so the result is independent of thread count and pair order.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/box.hpp"
@@ -27,9 +28,14 @@ struct NoiseSettings {
   NoiseKind kind = NoiseKind::Uniform;
 };
 
+struct PairBatch;  // per-thread workspace, defined in force_compute.cpp
+
 class ForceCompute {
  public:
-  ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {}
+  ForceCompute(PairTable table, NoiseSettings noise);
+  ~ForceCompute();
+  ForceCompute(ForceCompute&&) noexcept;
+  ForceCompute& operator=(ForceCompute&&) noexcept;
 
   // Overwrites p.f{x,y,z} of local particles with the pair forces at step `step` (the random force
   // is keyed on it). With `with_sums`, also fills `sums`.
@@ -39,13 +45,15 @@ class ForceCompute {
   const PairTable& table() const { return table_; }
 
  private:
-  template <bool kSums>
+  template <bool kSums, WeightKind W>
   void compute_impl(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step, double dt,
                     PairSums& sums);
 
   PairTable table_;
   NoiseSettings noise_;
+  WeightKind weight_kind_ = WeightKind::General;  // shared by all pairs, else General
   std::vector<std::vector<std::int64_t>> buffers_;  // per thread: fx, fy, fz interleaved
+  std::vector<std::unique_ptr<PairBatch>> batches_;  // per thread
 };
 
 }  // namespace mesodpd

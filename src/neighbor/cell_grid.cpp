@@ -46,9 +46,28 @@ CellGrid::CellGrid(const Box& box, double min_size) {
                 if (!forward) continue;
                 const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1];
                 const int nz = (cz + dz + n_[2]) % n_[2];
-                s.push_back((nz * n_[1] + ny) * n_[0] + nx);
+                // wrap = -1 when the step left the grid below (the neighbour sits at the top, one box
+                // length too high), +1 when it left above.
+                auto wrap = [](int c, int d, int n) { return static_cast<std::int8_t>(c + d < 0 ? -1 : (c + d >= n ? 1 : 0)); };
+                s.push_back(StencilEntry{(nz * n_[1] + ny) * n_[0] + nx, wrap(cx, dx, n_[0]), wrap(cy, dy, n_[1]),
+                                         wrap(cz, dz, n_[2])});
               }
         }
+    half_runs_.resize(num_cells());
+    for (std::size_t c = 0; c < num_cells(); ++c) {
+      std::vector<StencilEntry> entries = half_stencils_[c];
+      std::sort(entries.begin(), entries.end(), [](const StencilEntry& a, const StencilEntry& b) { return a.cell < b.cell; });
+      auto& runs = half_runs_[c];
+      runs.push_back(CellRun{static_cast<int>(c), static_cast<int>(c), 0, 0, 0});
+      // The own cell must stay first (its run starts at i + 1); the others follow in storage order.
+      for (const StencilEntry& e : entries) {
+        CellRun& last = runs.back();
+        if (e.cell == last.last + 1 && e.wx == last.wx && e.wy == last.wy && e.wz == last.wz)
+          last.last = e.cell;
+        else
+          runs.push_back(CellRun{e.cell, e.cell, e.wx, e.wy, e.wz});
+      }
+    }
   }
 }
 

@@ -57,6 +57,13 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     cell_index_.swap(sorted_cells);
   }
   // order_[k] is the storage index of the k-th particle in cell order.
+  cells_only_ = settings_.skin <= 0.0 && settings_.sort && grid_.has_half_stencil();
+  if (cells_only_) {
+    offsets_.clear();
+    neighbors_.clear();
+    ++builds_;
+    return;
+  }
 
   const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
   const double range2 = range * range;
@@ -80,8 +87,8 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     if (half) {
       // Sorted storage: particle i sits at position i of the cell order.
       scan(static_cast<std::uint32_t>(i) + 1, cell_start_[static_cast<std::size_t>(c) + 1]);
-      for (int nc2 : grid_.half_stencil(c))
-        scan(cell_start_[static_cast<std::size_t>(nc2)], cell_start_[static_cast<std::size_t>(nc2) + 1]);
+      for (const StencilEntry& e : grid_.half_stencil(c))
+        scan(cell_start_[static_cast<std::size_t>(e.cell)], cell_start_[static_cast<std::size_t>(e.cell) + 1]);
       return;
     }
     for (int nc2 : grid_.stencil(c)) {

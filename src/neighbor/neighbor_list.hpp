@@ -26,6 +26,14 @@ class NeighborList {
   // minimum-image distance is below cutoff + skin.
   void build(ParticleData& p, const Box& box);
 
+  // Cell-pair mode: with no skin the list would be rebuilt every step anyway, so build() only bins and
+  // sorts the particles, and the force loop visits cell pairs directly (ForceCompute). Needs sorting and
+  // at least three cells per direction; otherwise a list is built.
+  bool cells_only() const { return cells_only_; }
+  const CellGrid& grid() const { return grid_; }
+  // Particles of cell c occupy storage [cell_start()[c], cell_start()[c+1]) after a sorted build.
+  const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }
+
   // Row i holds the partners j of particle i: neighbors()[offsets()[i] .. offsets()[i+1]).
   const std::vector<std::uint32_t>& offsets() const { return offsets_; }
   const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
@@ -41,6 +49,7 @@ class NeighborList {
   std::vector<std::vector<std::uint32_t>> thread_rows_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   std::uint64_t builds_ = 0;
+  bool cells_only_ = false;
 };
 
 }  // namespace mesodpd
