@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 
+#include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
 #include "io/config.hpp"
 
@@ -15,17 +17,24 @@ namespace {
 
 constexpr int kExitConfig = 2;
 constexpr int kExitBlowUp = 3;
+// More threads than this is a typo, not a request: libgomp crashes (SIGSEGV) or aborts when it
+// cannot create tens of thousands of threads.
+constexpr int kMaxThreads = 1024;
 
-int run_command(const std::string& config, const std::string& out, int threads, std::int64_t steps,
+int run_command(const std::string& config, const std::string& out, int threads, std::optional<std::int64_t> steps,
                 const std::string& restart, bool no_progress) {
   using namespace mesodpd;
+  if (steps && *steps < 0) throw ConfigError(fmt::format("--steps: {} is negative", *steps));
+  if (threads < 0 || threads > kMaxThreads)
+    throw ConfigError(fmt::format("--threads: {} is out of range (0 to {})", threads, kMaxThreads));
   SimulationSpec spec = load_config(config);
-  if (threads < 0) throw ConfigError(fmt::format("--threads: {} is negative", threads));
+  if (spec.threads > kMaxThreads)
+    throw ConfigError(fmt::format("{}: run.threads = {}: must be at most {}", config, spec.threads, kMaxThreads));
   const int nthreads = threads > 0 ? threads : (spec.threads > 0 ? spec.threads : omp_get_max_threads());
   omp_set_num_threads(nthreads);
   RunOptions opt;
   opt.out_dir = out;
-  if (steps >= 0) opt.steps = static_cast<std::uint64_t>(steps);
+  if (steps) opt.steps = static_cast<std::uint64_t>(*steps);
   if (!restart.empty()) {
     if (!std::filesystem::exists(restart)) throw ConfigError(fmt::format("--restart: file {} does not exist", restart));
     opt.restart = restart;
@@ -61,7 +70,7 @@ int main(int argc, char** argv) {
 
   std::string config, out = "out", restart;
   int threads = 0;
-  std::int64_t steps = -1;
+  std::int64_t steps = 0;
   bool no_progress = false;
   auto* run = app.add_subcommand("run", "run a simulation");
   run->add_option("config", config, "TOML configuration file")->required();
@@ -77,15 +86,30 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // A bad command line is a configuration error: exit code 2 and one line, like a bad config.
+    fmt::print(stderr, "error: {} (see mesodpd --help)\n", e.what());
+    return kExitConfig;
   }
   try {
-    if (*run) return run_command(config, out, threads, steps, restart, no_progress);
+    if (*run) {
+      std::optional<std::int64_t> steps_override;
+      if (run->count("--steps") > 0) steps_override = steps;
+      return run_command(config, out, threads, steps_override, restart, no_progress);
+    }
     if (*check) {
       const mesodpd::SimulationSpec spec = mesodpd::load_config(check_config);
       std::uint64_t n = 0;
       for (const auto& s : spec.species) n += s.count;
+      if (!spec.data_file.empty()) {
+        // Read the data file too, so `check` catches what `run` would reject before the first step.
+        mesodpd::Box box;
+        mesodpd::ParticleData p;
+        mesodpd::make_initial_state(spec, box, p);
+        n = p.n_local;
+      }
       fmt::print("{}: valid ({} species, {} particles{})\n", check_config, spec.species.size(), n,
                  spec.data_file.empty() ? "" : " from " + spec.data_file);
       return 0;

@@ -191,11 +191,12 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       const std::size_t ncells = grid.num_cells();
 #pragma omp for schedule(static)
       for (std::size_t c = 0; c < ncells; ++c) {
-        const std::vector<CellRun>& runs = grid.half_runs(static_cast<int>(c));
+        CellRun runs[CellGrid::kMaxHalfRuns];
+        const int nr = grid.half_runs(static_cast<int>(c), runs);
         for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) {
           // The first run begins with the own cell, where only partners after i count.
           filter(i, i + 1, start[runs[0].last + 1], 0.0, 0.0, 0.0);
-          for (std::size_t r = 1; r < runs.size(); ++r) {
+          for (int r = 1; r < nr; ++r) {
             const CellRun& e = runs[r];
             filter(i, start[e.first], start[e.last + 1], e.wx * lx, e.wy * ly, e.wz * lz);
           }

@@ -32,6 +32,10 @@ void load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
       throw ConfigError(fmt::format("system.box: length {} along {} differs from the data file {} ({})",
                                     spec.box[static_cast<std::size_t>(d)], "xyz"[d], spec.data_file, len));
   }
+  for (std::size_t t = 0; t < data.masses.size() && t < spec.species.size(); ++t)
+    if (std::abs(data.masses[t] - spec.species[t].mass) > 1e-12 * spec.species[t].mass)
+      throw ConfigError(fmt::format("species[{}].mass: {} differs from the mass {} of atom type {} in {}", t,
+                                    spec.species[t].mass, data.masses[t], t + 1, spec.data_file));
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
   const std::size_t n = data.atoms.size();
   p.resize(n);

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 
 #include "analysis/kinetic_theory.hpp"
@@ -44,6 +45,59 @@ PairTable make_pair_table(const SimulationSpec& spec) {
   return t;
 }
 
+namespace {
+
+// Leading unsigned integer of `text` (the step of a thermo row or of a dump frame).
+std::optional<std::uint64_t> parse_step(const std::string& text) {
+  std::uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end == text.data()) return std::nullopt;
+  return v;
+}
+
+// A restarted run continues from the checkpoint's step K, but the files in the output directory may
+// go further: the run that wrote the checkpoint went on (and perhaps blew up) before the restart.
+// Output after K is dropped so that appending does not duplicate steps. Rows and frames are in
+// increasing step order, so everything from the first one after K (or the first damaged one) goes.
+void trim_thermo_csv(const std::filesystem::path& path, std::uint64_t last_step) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, kept;
+  bool trimmed = false;
+  for (bool header = true; std::getline(in, line); header = false) {
+    const bool complete = !in.eof();  // a last line without '\n' was cut short by a crash
+    const auto step = parse_step(line);
+    if (!complete || (!header && (!step || *step > last_step))) {
+      trimmed = true;
+      break;
+    }
+    kept += line;
+    kept += '\n';
+  }
+  in.close();
+  if (trimmed) write_file_atomically(path, [&](std::ostream& os) { os << kept; });
+}
+
+void trim_lammps_dump(const std::filesystem::path& path, std::uint64_t last_step) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::optional<std::uintmax_t> cut;
+  while (true) {
+    const std::streamoff pos = in.tellg();
+    if (!std::getline(in, line)) break;
+    if (line != "ITEM: TIMESTEP") continue;
+    std::optional<std::uint64_t> step;
+    if (std::getline(in, line)) step = parse_step(line);
+    if (!step || *step > last_step) {
+      cut = static_cast<std::uintmax_t>(pos);
+      break;
+    }
+  }
+  in.close();
+  if (cut) std::filesystem::resize_file(path, *cut);
+}
+
+}  // namespace
+
 // Everything that watches the run: thermo output, profiles, RDF, MSD, trajectory, progress.
 class Observers {
  public:
@@ -82,7 +136,8 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
   if (opt_.out_dir.empty()) return;
   std::filesystem::create_directories(opt_.out_dir);
   const auto thermo_path = out("thermo.csv");
-  const bool append = restarted && std::filesystem::exists(thermo_path);
+  if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, sim.current_step());
+  const bool append = restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
   thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
   if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
   if (!append) thermo_ << thermo_csv_header() << '\n';
@@ -101,10 +156,12 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
   if (s.dump.enabled) {
     const bool gsd = s.dump.format == DumpFormat::Gsd;
     const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
-    if (gsd)
+    if (gsd) {
       gsd_.emplace(out(name), s.dump.fields, restarted);
-    else
+    } else {
+      if (restarted && std::filesystem::exists(out(name))) trim_lammps_dump(out(name), sim.current_step());
       lammps_.emplace(out(name), s.dump.fields, restarted);
+    }
   }
 }
 
@@ -153,7 +210,7 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
     ThermoState t = compute_thermo(p, mass, sim_.box(), sums);
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
-    t.neighbor_builds = sim_.neighbor_list().builds();
+    t.neighbor_builds = sim_.neighbor_builds();
     thermo_ << thermo_csv_row(t) << '\n';
     thermo_.flush();
     temperature_sum_ += t.temperature;
@@ -206,6 +263,7 @@ std::string Observers::finish() {
           "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} (kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f})\n",
           fit.eta, fit.eta_err, eta_theory);
       profile_->write_csv(out("poiseuille_profile.csv").string());
+      write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
       write_file_atomically(out("viscosity.json"), [&](std::ostream& os) {
         os << fmt::format(
             "{{\n  \"eta\": {:.8g},\n  \"eta_err\": {:.8g},\n  \"eta_kinetic_theory\": {:.8g},\n  \"blocks\": {},\n"
@@ -362,7 +420,7 @@ ThermoState Simulation::thermo() {
   ThermoState t = compute_thermo(p_, mass_, box_, sums_);
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
-  t.neighbor_builds = nlist_.builds();
+  t.neighbor_builds = neighbor_builds();
   return t;
 }
 
@@ -375,13 +433,14 @@ std::string Simulation::run() {
 }
 
 namespace {
-constexpr std::uint64_t kStateTag = 0x4d45534f44504431ull;  // "MESODPD1": payload layout of this file
+constexpr std::uint64_t kStateTag = 0x4d45534f44504432ull;  // "MESODPD2": payload layout of this file
 }
 
 void Simulation::write_checkpoint(const std::filesystem::path& file) const {
   ByteWriter w;
   w.put<std::uint64_t>(kStateTag);
   w.put<std::uint64_t>(step_);
+  w.put<std::uint64_t>(neighbor_builds());  // so thermo.csv's neighbor_builds column continues across a restart
   w.put<std::uint64_t>(spec_.seed);
   w.put<double>(spec_.dt);
   w.put<std::uint64_t>(spec_.species.size());
@@ -402,6 +461,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   ByteReader r(bytes, file.string());
   if (r.get<std::uint64_t>() != kStateTag) throw ConfigError(fmt::format("{}: not a mesodpd state checkpoint", file.string()));
   step_ = r.get<std::uint64_t>();
+  neighbor_builds_before_ = r.get<std::uint64_t>();
   const auto seed = r.get<std::uint64_t>();
   (void)r.get<double>();
   const auto ns = r.get<std::uint64_t>();
@@ -430,8 +490,8 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     if (p_.species[i] < 0 || static_cast<std::size_t>(p_.species[i]) >= ns)
       throw ConfigError(fmt::format("{}: particle {} has an invalid species", file.string(), p_.id[i]));
   if (step_ > final_step_)
-    throw ConfigError(fmt::format("run.steps: the checkpoint is already at step {}, beyond the requested {}", step_,
-                                  final_step_));
+    throw ConfigError(fmt::format("{}: the checkpoint {} is already at step {}, beyond the requested {}",
+                                  options_.steps ? "--steps" : "run.steps", file.string(), step_, final_step_));
 }
 
 }  // namespace mesodpd

@@ -64,6 +64,8 @@ class Simulation {
   std::uint64_t current_step() const { return step_; }
   std::uint64_t final_step() const { return final_step_; }
   const NeighborList& neighbor_list() const { return nlist_; }
+  // Neighbour-list builds since step 0, including those before a restart.
+  std::uint64_t neighbor_builds() const { return neighbor_builds_before_ + nlist_.builds(); }
   // Thermodynamic state at the current step (recomputes the pair sums without changing any state).
   ThermoState thermo();
   // Serialises the full dynamic state; a run restarted from it continues bit-identically.
@@ -84,6 +86,7 @@ class Simulation {
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
   std::uint64_t final_step_ = 0;
+  std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
   PairSums sums_;
   bool sums_valid_ = false;
   std::unique_ptr<Observers> observers_;

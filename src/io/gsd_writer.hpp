@@ -12,7 +12,8 @@
 //   particles/typeid          uint32 [N]        "species"
 //   particles/mass            float32 [N]       "species", when the frame carries species masses
 //   particles/position        float32 [N x 3]   "position", relative to the box centre (HOOMD's box
-//                                               spans [-L/2, L/2)), i.e. x - (lo + L/2)
+//                                               spans [-L/2, L/2)), i.e. x - (lo + L/2), kept
+//                                               strictly below +L/2 after rounding to float32
 //   particles/velocity        float32 [N x 3]   "velocity"
 //   particles/image           int32 [N x 3]     "image"
 //   log/particles/force       float32 [N x 3]   "force" (the hoomd schema has no force chunk)

@@ -1,22 +1,16 @@
-// Regular periodic grid of cells at least `min_size` wide, with the distinct neighbour-cell stencil.
+// Regular periodic grid of cells at least `min_size` wide, with neighbour-cell stencils computed on the
+// fly (a stored stencil per cell would cost more memory than the particles at rho = 3).
 #pragma once
 #include <array>
 #include <cstdint>
-#include <vector>
 
 #include "core/box.hpp"
 
 namespace mesodpd {
 
-// A neighbour cell seen from some cell, with the periodic wrap crossed to reach it: the neighbour's
-// particles' nearest images lie at x_j + wrap * L, so d = (x_i - x_j) - wrap * L.
-struct StencilEntry {
-  int cell;
-  std::int8_t wx, wy, wz;
-};
-
 // Consecutive cells [first, last] (in storage order) that share one periodic wrap: their particles
-// form one contiguous range once particles are sorted by cell.
+// form one contiguous range once particles are sorted by cell. The nearest images of those particles
+// lie at x_j + wrap * L, so the displacement is d = (x_i - x_j) - wrap * L.
 struct CellRun {
   int first, last;
   std::int8_t wx, wy, wz;
@@ -24,6 +18,9 @@ struct CellRun {
 
 class CellGrid {
  public:
+  // Upper bound on the runs of one half stencil: the own cell plus 13 forward cells.
+  static constexpr int kMaxHalfRuns = 14;
+
   CellGrid() = default;
   CellGrid(const Box& box, double min_size);
 
@@ -31,25 +28,36 @@ class CellGrid {
   std::size_t num_cells() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
   const std::array<int, 3>& dims() const { return n_; }
 
-  // Cells whose particles may lie within min_size of cell `c`, each listed once (c included), for
-  // periodic grids of any size: a dimension with fewer than three cells must not visit a cell twice.
-  const std::vector<int>& stencil(int c) const { return stencils_[static_cast<std::size_t>(c)]; }
+  // Calls f(cell) once for every distinct cell within one cell of `c` (c included), for periodic grids
+  // of any size: a dimension with fewer than three cells must not visit a cell twice.
+  template <class F>
+  void for_each_neighbor_cell(int c, F&& f) const;
 
-  // With at least three cells in every direction, the 13 "forward" neighbour cells of `c` (half of the
-  // 26): visiting the own cell (pairs j > i) plus these finds every pair exactly once. Empty otherwise.
-  bool has_half_stencil() const { return !half_stencils_.empty(); }
-  const std::vector<StencilEntry>& half_stencil(int c) const { return half_stencils_[static_cast<std::size_t>(c)]; }
-  // The own cell followed by the half stencil, merged into runs of storage-adjacent cells. The first run
-  // starts at cell c itself (pairs within it need j > i); the 14 cells usually form 5 runs.
-  const std::vector<CellRun>& half_runs(int c) const { return half_runs_[static_cast<std::size_t>(c)]; }
-
+  // With at least three cells in every direction, visiting the own cell (pairs j > i) plus the 13
+  // "forward" neighbour cells (half of the 26) finds every pair exactly once.
+  bool has_half_stencil() const { return n_[0] >= 3 && n_[1] >= 3 && n_[2] >= 3; }
+  // Writes the own cell followed by the forward cells of `c`, merged into runs of storage-adjacent
+  // cells with a common wrap, into out[0..return). out[0] starts at c itself. Usually 5 runs.
+  int half_runs(int c, CellRun* out) const;
 
  private:
   std::array<int, 3> n_{1, 1, 1};
   std::array<double, 3> inv_size_{1, 1, 1};
-  std::vector<std::vector<int>> stencils_;
-  std::vector<std::vector<StencilEntry>> half_stencils_;
-  std::vector<std::vector<CellRun>> half_runs_;
 };
+
+template <class F>
+void CellGrid::for_each_neighbor_cell(int c, F&& f) const {
+  const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
+  // Offsets per dimension that reach distinct cells: {0} for 1 cell, {0,1} for 2, {-1,0,1} otherwise.
+  auto lo = [](int n) { return n >= 3 ? -1 : 0; };
+  auto hi = [](int n) { return n >= 2 ? 1 : 0; };
+  for (int dz = lo(n_[2]); dz <= hi(n_[2]); ++dz)
+    for (int dy = lo(n_[1]); dy <= hi(n_[1]); ++dy)
+      for (int dx = lo(n_[0]); dx <= hi(n_[0]); ++dx) {
+        const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1];
+        const int nz = (cz + dz + n_[2]) % n_[2];
+        f((nz * n_[1] + ny) * n_[0] + nx);
+      }
+}
 
 }  // namespace mesodpd

@@ -86,12 +86,15 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     const int c = static_cast<int>(cell_index_[i]);
     if (half) {
       // Sorted storage: particle i sits at position i of the cell order.
-      scan(static_cast<std::uint32_t>(i) + 1, cell_start_[static_cast<std::size_t>(c) + 1]);
-      for (const StencilEntry& e : grid_.half_stencil(c))
-        scan(cell_start_[static_cast<std::size_t>(e.cell)], cell_start_[static_cast<std::size_t>(e.cell) + 1]);
+      CellRun runs[CellGrid::kMaxHalfRuns];
+      const int nr = grid_.half_runs(c, runs);
+      // The first run starts with the own cell: partners after i only.
+      scan(static_cast<std::uint32_t>(i) + 1, cell_start_[static_cast<std::size_t>(runs[0].last) + 1]);
+      for (int r = 1; r < nr; ++r)
+        scan(cell_start_[static_cast<std::size_t>(runs[r].first)], cell_start_[static_cast<std::size_t>(runs[r].last) + 1]);
       return;
     }
-    for (int nc2 : grid_.stencil(c)) {
+    grid_.for_each_neighbor_cell(c, [&](int nc2) {
       for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
         const std::uint32_t j = order_[k];
         if (j <= i) continue;
@@ -100,7 +103,7 @@ void NeighborList::build(ParticleData& p, const Box& box) {
         const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
-    }
+    });
   };
   // One pass: each thread lists its contiguous block of rows into its own buffer, then the blocks are
   // concatenated in thread order, so the list is the same whatever the thread count.

@@ -375,10 +375,17 @@ std::string expected_frame_json(const System& s, std::uint64_t step, const Field
         "typeid", [&](std::size_t i, int) { return s.species[i]; }, 1);
   }
   if (f.position) {
-    // The writer's own formula: coordinates relative to the box centre, then rounded to float32.
+    // The documented convention: relative to the box centre, rounded to float32, and kept below
+    // +L/2 of the float32 box (a value that rounds up to L/2 becomes the next float down).
     const std::array<const std::vector<double>*, 3> xyz{&s.x, &s.y, &s.z};
     rows(
-        "position", [&](std::size_t i, int d) { return (*xyz[d])[i] - (s.lo[d] + 0.5 * s.len[d]); }, 3);
+        "position",
+        [&](std::size_t i, int d) {
+          const float v = static_cast<float>((*xyz[d])[i] - (s.lo[d] + 0.5 * s.len[d]));
+          const float half = 0.5f * static_cast<float>(s.len[d]);
+          return static_cast<double>(v < half ? v : std::nextafter(half, 0.0f));
+        },
+        3);
   }
   if (f.velocity) {
     const std::array<const std::vector<double>*, 3> v{&s.vx, &s.vy, &s.vz};

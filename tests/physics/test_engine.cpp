@@ -76,7 +76,7 @@ TEST(NeighborList, EqualsBruteForceOnBoxesOfSeveralShapes) {
           got.insert({std::min(p.id[i], p.id[j]), std::max(p.id[i], p.id[j])});
           ++entries;
         }
-      EXPECT_EQ(entries, got.size()) << "a pair is listed twice, box " << len.x << "x" << len.y << "x" << len.z;
+      EXPECT_EQ(entries, got.size()) << "a pair is listed twice, box " << len.x << "x" << len.y << "x" << len.z << " sort " << sort;
       EXPECT_EQ(got, expected) << "box " << len.x << "x" << len.y << "x" << len.z << " sort " << sort;
     }
   }
