@@ -20,7 +20,8 @@ Philox4x32 particle_bits(std::uint64_t seed, RngStream stream, std::uint32_t id,
   return philox4x32_10(ctr, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
 }
 
-void load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
+// Returns whether the file had a Velocities section.
+bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
   const LammpsData data = read_lammps_data(spec.data_file);
   const int ns = static_cast<int>(spec.species.size());
   if (data.n_types > ns)
@@ -60,6 +61,7 @@ void load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
       p.vz[i] = data.velocities[i][2];
     }
   }
+  return data.has_velocities;
 }
 
 void zero_velocities(ParticleData& p) {
@@ -72,7 +74,11 @@ void zero_velocities(ParticleData& p) {
 
 void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
   if (!spec.data_file.empty()) {
-    load_data_file(spec, box, p);
+    const bool has_velocities = load_data_file(spec, box, p);
+    if (spec.velocities == VelocityInit::File && !has_velocities)
+      throw ConfigError(fmt::format("init.velocities: \"file\" (the default with init.lammps_data) but {} has no "
+                                    "Velocities section; set init.velocities = \"maxwell\" or \"zero\"",
+                                    spec.data_file));
     if (spec.velocities == VelocityInit::Maxwell) assign_maxwell_velocities(spec, p);
     if (spec.velocities == VelocityInit::Zero) zero_velocities(p);
     return;

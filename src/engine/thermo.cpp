@@ -5,25 +5,35 @@
 
 namespace mesodpd {
 
+namespace {
+// Kinetic sums are accumulated as 128-bit fixed-point integers (2^40 units), so they do not depend on
+// the storage order of the particles, which changes with spatial sorting, restarts and (later) ranks.
+__extension__ using Int128 = __int128;
+constexpr double kKineticScale = 1099511627776.0;  // 2^40
+Int128 fixed128(double v) { return static_cast<Int128>(v * kKineticScale); }
+double unfixed128(Int128 q) { return static_cast<double>(q) / kKineticScale; }
+}  // namespace
+
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
                            const PairSums& sums) {
   ThermoState s;
-  std::array<double, 6> k{};
-  std::array<double, 3> mom{};
-  // Serial, fixed-order sums: thermo output must not depend on the thread count.
+  Int128 kq[6] = {0, 0, 0, 0, 0, 0}, mq[3] = {0, 0, 0};
   for (std::size_t i = 0; i < p.n_local; ++i) {
     const double m = mass[static_cast<std::size_t>(p.species[i])];
     const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
-    k[0] += m * vx * vx;
-    k[1] += m * vy * vy;
-    k[2] += m * vz * vz;
-    k[3] += m * vx * vy;
-    k[4] += m * vx * vz;
-    k[5] += m * vy * vz;
-    mom[0] += m * vx;
-    mom[1] += m * vy;
-    mom[2] += m * vz;
+    kq[0] += fixed128(m * vx * vx);
+    kq[1] += fixed128(m * vy * vy);
+    kq[2] += fixed128(m * vz * vz);
+    kq[3] += fixed128(m * vx * vy);
+    kq[4] += fixed128(m * vx * vz);
+    kq[5] += fixed128(m * vy * vz);
+    mq[0] += fixed128(m * vx);
+    mq[1] += fixed128(m * vy);
+    mq[2] += fixed128(m * vz);
   }
+  std::array<double, 6> k{};
+  for (std::size_t q = 0; q < 6; ++q) k[q] = unfixed128(kq[q]);
+  const std::array<double, 3> mom{unfixed128(mq[0]), unfixed128(mq[1]), unfixed128(mq[2])};
   const double n = static_cast<double>(p.n_local);
   const double dof = n > 1 ? 3.0 * n - 3.0 : 3.0;
   const double v = box.volume();
