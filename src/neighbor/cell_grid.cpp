@@ -12,6 +12,15 @@ CellGrid::CellGrid(const Box& box, double min_size) {
     n_[d] = std::max(1, static_cast<int>(std::floor(len[d] / min_size)));
     inv_size_[d] = n_[d] / len[d];
   }
+  if (has_half_stencil()) {
+    // Any interior cell serves as the template; store its runs relative to its index.
+    const int c = (1 * n_[1] + 1) * n_[0] + 1;
+    interior_count_ = half_runs_general(c, interior_runs_);
+    for (int r = 0; r < interior_count_; ++r) {
+      interior_runs_[r].first -= c;
+      interior_runs_[r].last -= c;
+    }
+  }
 }
 
 int CellGrid::cell_of(double x, double y, double z) const {
@@ -22,6 +31,18 @@ int CellGrid::cell_of(double x, double y, double z) const {
 }
 
 int CellGrid::half_runs(int c, CellRun* out) const {
+  const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
+  const bool interior = cx > 0 && cx < n_[0] - 1 && cy > 0 && cy < n_[1] - 1 && cz < n_[2] - 1;
+  if (!interior) return half_runs_general(c, out);
+  for (int r = 0; r < interior_count_; ++r) {
+    out[r] = interior_runs_[r];
+    out[r].first += c;
+    out[r].last += c;
+  }
+  return interior_count_;
+}
+
+int CellGrid::half_runs_general(int c, CellRun* out) const {
   const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
   int count = 0;
   out[count++] = CellRun{c, c, 0, 0, 0};

@@ -41,6 +41,11 @@ class CellGrid {
   int half_runs(int c, CellRun* out) const;
 
  private:
+  int half_runs_general(int c, CellRun* out) const;
+
+  // Runs of an interior cell (no wrap), relative to the cell's own index: the same for all of them.
+  CellRun interior_runs_[kMaxHalfRuns]{};
+  int interior_count_ = 0;
   std::array<int, 3> n_{1, 1, 1};
   std::array<double, 3> inv_size_{1, 1, 1};
 };
