@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "engine/fixed_point.hpp"
 #include "physics/dpd_pair.hpp"
@@ -30,6 +31,8 @@ struct PairBatch {
   alignas(64) std::int64_t qy[kCapacity];
   alignas(64) std::int64_t qz[kCapacity];
   alignas(64) double r2[kCapacity / 2];  // distance filter scratch for one chunk of candidates
+  std::vector<double> cand_x, cand_y, cand_z;  // candidates of the current cell, nearest-image coordinates
+  std::vector<std::uint32_t> cand_j;
 };
 
 ForceCompute::ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {
@@ -156,51 +159,66 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       }
       b.m = 0;
     };
-    // Distance filter of particle i against partners [j0, j1), whose nearest images are shifted by
-    // (sx, sy, sz) relative to their stored positions. Branch-free append of the survivors.
-    auto filter_chunk = [&](std::uint32_t i, std::uint32_t j0, std::uint32_t j1, double sx, double sy, double sz) {
-      const std::size_t cnt = j1 - j0;  // at most kChunk
-      const double xs = x[i] - sx, ys = y[i] - sy, zs = z[i] - sz;
-      double* __restrict r2 = b.r2;
-      const double* __restrict xj = x + j0;
-      const double* __restrict yj = y + j0;
-      const double* __restrict zj = z + j0;
-      for (std::size_t k = 0; k < cnt; ++k) {
-        const double dx = xs - xj[k], dy = ys - yj[k], dz = zs - zj[k];
-        r2[k] = dx * dx + dy * dy + dz * dz;
+    // Distance filter of particle i against candidates [k0, k1) of the cell's candidate arrays, which
+    // hold nearest-image coordinates. Survivors are appended to the batch without branches.
+    auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1) {
+      constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
+      const double xi = x[i], yi = y[i], zi = z[i];
+      for (std::size_t a = k0; a < k1; a += kChunk) {
+        const std::size_t cnt = std::min(k1, a + kChunk) - a;
+        const double* __restrict cx = b.cand_x.data() + a;
+        const double* __restrict cy = b.cand_y.data() + a;
+        const double* __restrict cz = b.cand_z.data() + a;
+        const std::uint32_t* __restrict cj = b.cand_j.data() + a;
+        double* __restrict r2 = b.r2;
+        for (std::size_t k = 0; k < cnt; ++k) {
+          const double dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
+          r2[k] = dx * dx + dy * dy + dz * dz;
+        }
+        if (b.m + cnt > PairBatch::kCapacity) flush();
+        const std::size_t m0 = b.m;
+        std::size_t m = m0;
+        for (std::size_t k = 0; k < cnt; ++k) {
+          b.j[m] = cj[k];
+          m += r2[k] < filter2 ? 1 : 0;
+        }
+        for (std::size_t k = m0; k < m; ++k) b.i[k] = i;
+        b.m = m;
       }
-      if (b.m + cnt > PairBatch::kCapacity) flush();
-      std::size_t m = b.m;
-      for (std::size_t k = 0; k < cnt; ++k) {
-        b.i[m] = i;
-        b.j[m] = static_cast<std::uint32_t>(j0 + k);
-        m += r2[k] < filter2 ? 1 : 0;
-      }
-      b.m = m;
-    };
-    // Dense cells (a collapsed or strongly inhomogeneous system) are taken in chunks that fit the batch.
-    constexpr std::uint32_t kChunk = PairBatch::kCapacity / 2;
-    auto filter = [&](std::uint32_t i, std::uint32_t j0, std::uint32_t j1, double sx, double sy, double sz) {
-      for (std::uint32_t a = j0; a < j1; a += kChunk) filter_chunk(i, a, std::min(j1, a + kChunk), sx, sy, sz);
     };
 
     if (list.cells_only()) {
       // Cell pairs: particle i against the rest of its own cell and the 13 forward neighbour cells.
+      // The candidates of a cell are gathered once, with periodic shifts applied, own cell first; the
+      // q-th particle of the cell then scans candidates q+1 onwards in one loop.
       const CellGrid& grid = list.grid();
       const std::uint32_t* start = list.cell_start().data();
       const std::size_t ncells = grid.num_cells();
 #pragma omp for schedule(static)
       for (std::size_t c = 0; c < ncells; ++c) {
+        if (start[c] == start[c + 1]) continue;
         CellRun runs[CellGrid::kMaxHalfRuns];
         const int nr = grid.half_runs(static_cast<int>(c), runs);
-        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) {
-          // The first run begins with the own cell, where only partners after i count.
-          filter(i, i + 1, start[runs[0].last + 1], 0.0, 0.0, 0.0);
-          for (int r = 1; r < nr; ++r) {
-            const CellRun& e = runs[r];
-            filter(i, start[e.first], start[e.last + 1], e.wx * lx, e.wy * ly, e.wz * lz);
+        std::size_t total = 0;
+        for (int r = 0; r < nr; ++r) total += start[runs[r].last + 1] - start[runs[r].first];
+        if (b.cand_x.size() < total) {
+          b.cand_x.resize(2 * total);
+          b.cand_y.resize(2 * total);
+          b.cand_z.resize(2 * total);
+          b.cand_j.resize(2 * total);
+        }
+        std::size_t mc = 0;
+        for (int r = 0; r < nr; ++r) {
+          const CellRun& e = runs[r];
+          const double sx = e.wx * lx, sy = e.wy * ly, sz = e.wz * lz;
+          for (std::uint32_t j = start[e.first]; j < start[e.last + 1]; ++j, ++mc) {
+            b.cand_x[mc] = x[j] + sx;
+            b.cand_y[mc] = y[j] + sy;
+            b.cand_z[mc] = z[j] + sz;
+            b.cand_j[mc] = j;
           }
         }
+        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc);
       }
     } else {
       const std::uint32_t* off = list.offsets().data();
