@@ -7,7 +7,9 @@ namespace {
 template <class T>
 void apply_order(std::vector<T>& v, const std::vector<std::uint32_t>& order, std::vector<T>& scratch) {
   scratch.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = v[order[k]];
+  const std::size_t n = order.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < n; ++k) scratch[k] = v[order[k]];
   v.swap(scratch);
   v.resize(order.size());
 }

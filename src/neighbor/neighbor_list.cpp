@@ -37,6 +37,7 @@ void NeighborList::build(ParticleData& p, const Box& box) {
 
   // Counting sort of particles by cell. Stable, so the order is a function of positions alone.
   cell_index_.resize(n);
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) cell_index_[i] = static_cast<std::uint32_t>(grid_.cell_of(p.x[i], p.y[i], p.z[i]));
   cell_start_.assign(nc + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
@@ -52,6 +53,7 @@ void NeighborList::build(ParticleData& p, const Box& box) {
       order_[k] = static_cast<std::uint32_t>(k);
     }
     std::vector<std::uint32_t> sorted_cells(n);
+#pragma omp parallel for schedule(static)
     for (std::size_t c = 0; c < nc; ++c)
       for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) sorted_cells[k] = static_cast<std::uint32_t>(c);
     cell_index_.swap(sorted_cells);
