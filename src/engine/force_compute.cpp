@@ -14,24 +14,34 @@
 
 namespace mesodpd {
 
+// Arithmetic type of the pair passes: double, or float with -DMESODPD_SINGLE=ON. Positions,
+// velocities and the fixed-point sums stay double/integer either way (docs/performance.md).
+#ifdef MESODPD_SINGLE_PRECISION
+using PairReal = float;
+constexpr double kFilterMargin = 1e-4;  // float rounding of the filter's displacement
+#else
+using PairReal = double;
+constexpr double kFilterMargin = 1e-10;
+#endif
+
 // Pairs (i, j) waiting for evaluation, with the arrays of the evaluation passes.
 struct PairBatch {
   static constexpr std::size_t kCapacity = 1024;
   std::size_t m = 0;
   alignas(64) std::uint32_t i[kCapacity];
   alignas(64) std::uint32_t j[kCapacity];
-  alignas(64) double dx[kCapacity];
-  alignas(64) double dy[kCapacity];
-  alignas(64) double dz[kCapacity];
-  alignas(64) double r[kCapacity];
-  alignas(64) double inv_r[kCapacity];
-  alignas(64) double rv[kCapacity];
-  alignas(64) double xi[kCapacity];
+  alignas(64) PairReal dx[kCapacity];
+  alignas(64) PairReal dy[kCapacity];
+  alignas(64) PairReal dz[kCapacity];
+  alignas(64) PairReal r[kCapacity];
+  alignas(64) PairReal inv_r[kCapacity];
+  alignas(64) PairReal rv[kCapacity];
+  alignas(64) PairReal xi[kCapacity];
   alignas(64) std::int64_t qx[kCapacity];
   alignas(64) std::int64_t qy[kCapacity];
   alignas(64) std::int64_t qz[kCapacity];
-  alignas(64) double r2[kCapacity / 2];  // distance filter scratch for one chunk of candidates
-  std::vector<double> cand_x, cand_y, cand_z;  // candidates of the current cell, nearest-image coordinates
+  alignas(64) PairReal r2[kCapacity / 2];  // distance filter scratch for one chunk of candidates
+  std::vector<PairReal> cand_x, cand_y, cand_z;  // candidates of the current cell, nearest-image coordinates
   std::vector<std::uint32_t> cand_j;
 };
 
@@ -68,16 +78,18 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   const int nthreads = omp_get_max_threads();
   buffers_.resize(static_cast<std::size_t>(nthreads));
   while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());
-  const double inv_sqrt_dt = 1.0 / std::sqrt(dt);
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;
   const double hlx = 0.5 * lx, hly = 0.5 * ly, hlz = 0.5 * lz;  // half lengths
   const int ns = table_.n_species;
-  const DpdPairParams* params = table_.params.data();
+  std::vector<DpdPairParamsT<PairReal>> params_real;
+  for (const DpdPairParams& q : table_.params) params_real.push_back(q.as<PairReal>());
+  const DpdPairParamsT<PairReal>* params = params_real.data();
+  const PairReal inv_sqrt_dt_r = static_cast<PairReal>(1.0 / std::sqrt(dt));
   const std::uint64_t seed = noise_.seed;
   const NoiseKind kind = noise_.kind;
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
-  const double filter2 = table_.max_cutoff * table_.max_cutoff * (1.0 + 1e-10);
+  const PairReal filter2 = static_cast<PairReal>(table_.max_cutoff * table_.max_cutoff * (1.0 + kFilterMargin));
 
 
   // Integer sums: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
@@ -107,29 +119,33 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
       for (std::size_t k = 0; k < m; ++k) {
         const std::uint32_t i = b.i[k], j = b.j[k];
-        const double dx = minimum_image(x[i] - x[j], lx, hlx);
-        const double dy = minimum_image(y[i] - y[j], ly, hly);
-        const double dz = minimum_image(z[i] - z[j], lz, hlz);
-        const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const double inv_r = r > 0.0 ? 1.0 / r : 0.0;
+        const PairReal dx = static_cast<PairReal>(minimum_image(x[i] - x[j], lx, hlx));
+        const PairReal dy = static_cast<PairReal>(minimum_image(y[i] - y[j], ly, hly));
+        const PairReal dz = static_cast<PairReal>(minimum_image(z[i] - z[j], lz, hlz));
+        const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
         b.dx[k] = dx;
         b.dy[k] = dy;
         b.dz[k] = dz;
         b.r[k] = r;
         b.inv_r[k] = inv_r;
-        b.rv[k] = (dx * (vx[i] - vx[j]) + dy * (vy[i] - vy[j]) + dz * (vz[i] - vz[j])) * inv_r;
+        b.rv[k] = (dx * static_cast<PairReal>(vx[i] - vx[j]) + dy * static_cast<PairReal>(vy[i] - vy[j]) +
+                   dz * static_cast<PairReal>(vz[i] - vz[j])) *
+                  inv_r;
       }
       // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
       if (kind == NoiseKind::Uniform) {
-        for (std::size_t k = 0; k < m; ++k) b.xi[k] = pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Uniform);
+        for (std::size_t k = 0; k < m; ++k)
+          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Uniform));
       } else {
-        for (std::size_t k = 0; k < m; ++k) b.xi[k] = pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Gaussian);
+        for (std::size_t k = 0; k < m; ++k)
+          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Gaussian));
       }
       // Pass 3: the force law and the fixed-point conversion.
       for (std::size_t k = 0; k < m; ++k) {
-        const DpdPairParams& pp = ns == 1 ? params[0] : params[sp[b.i[k]] * ns + sp[b.j[k]]];
-        const DpdPairForce f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt);
-        const double scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
+        const DpdPairParamsT<PairReal>& pp = ns == 1 ? params[0] : params[sp[b.i[k]] * ns + sp[b.j[k]]];
+        const DpdPairForceT<PairReal> f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt_r);
+        const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
         const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
         b.qx[k] = to_fixed(fx, kForceScale);
         b.qy[k] = to_fixed(fy, kForceScale);
@@ -163,16 +179,16 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
     // hold nearest-image coordinates. Survivors are appended to the batch without branches.
     auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1) {
       constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
-      const double xi = x[i], yi = y[i], zi = z[i];
+      const PairReal xi = static_cast<PairReal>(x[i]), yi = static_cast<PairReal>(y[i]), zi = static_cast<PairReal>(z[i]);
       for (std::size_t a = k0; a < k1; a += kChunk) {
         const std::size_t cnt = std::min(k1, a + kChunk) - a;
-        const double* __restrict cx = b.cand_x.data() + a;
-        const double* __restrict cy = b.cand_y.data() + a;
-        const double* __restrict cz = b.cand_z.data() + a;
+        const PairReal* __restrict cx = b.cand_x.data() + a;
+        const PairReal* __restrict cy = b.cand_y.data() + a;
+        const PairReal* __restrict cz = b.cand_z.data() + a;
         const std::uint32_t* __restrict cj = b.cand_j.data() + a;
-        double* __restrict r2 = b.r2;
+        PairReal* __restrict r2 = b.r2;
         for (std::size_t k = 0; k < cnt; ++k) {
-          const double dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
+          const PairReal dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
           r2[k] = dx * dx + dy * dy + dz * dz;
         }
         if (b.m + cnt > PairBatch::kCapacity) flush();
@@ -212,9 +228,9 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
           const CellRun& e = runs[r];
           const double sx = e.wx * lx, sy = e.wy * ly, sz = e.wz * lz;
           for (std::uint32_t j = start[e.first]; j < start[e.last + 1]; ++j, ++mc) {
-            b.cand_x[mc] = x[j] + sx;
-            b.cand_y[mc] = y[j] + sy;
-            b.cand_z[mc] = z[j] + sz;
+            b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
+            b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
+            b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
             b.cand_j[mc] = j;
           }
         }

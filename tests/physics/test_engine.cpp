@@ -138,8 +138,13 @@ TEST(Forces, EngineEqualsReferenceWithVelocities) {
       max_f = std::max({max_f, std::abs(f[0]), std::abs(f[1]), std::abs(f[2])});
     }
     EXPECT_GT(max_f, 10.0);
-    // Fixed-point quantisation: at most ~2.3e-10 per pair, ~40 pairs per particle.
+    // Fixed-point quantisation: at most ~2.3e-10 per pair, ~40 pairs per particle. The single-precision
+    // build (MESODPD_SINGLE) rounds each pair force to float: ~1e-5 relative, forces up to ~100.
+#ifdef MESODPD_SINGLE_PRECISION
+    EXPECT_LT(max_err, 5e-4);
+#else
     EXPECT_LT(max_err, 1e-8);
+#endif
   }
 }
 
