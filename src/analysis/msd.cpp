@@ -3,7 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
+#include <utility>
 #include <limits>
 #include <stdexcept>
 
@@ -132,6 +134,59 @@ void MeanSquaredDisplacement::write_csv(const std::string& path) const {
   os << "time,msd\n";
   for (std::size_t k = 0; k < y.size(); ++k) os << fmt::format("{:.10g},{:.10g}\n", lag_time_[k], y[k]);
   if (!os) throw std::runtime_error(fmt::format("MeanSquaredDisplacement: write to '{}' failed", path));
+}
+
+void MeanSquaredDisplacement::save(ByteWriter& w) const {
+  w.put<std::uint64_t>(max_origins_);
+  w.put<std::uint64_t>(origin_every_);
+  w.put<std::uint64_t>(samples_);
+  w.put<std::uint64_t>(step_spacing_);
+  w.put<std::uint64_t>(last_step_);
+  w.put<double>(first_time_);
+  // The id -> slot map in id order, so the checkpoint bytes do not depend on hash-table order.
+  std::vector<std::pair<std::uint32_t, std::uint64_t>> slots(slot_of_id_.begin(), slot_of_id_.end());
+  std::sort(slots.begin(), slots.end());
+  std::vector<std::uint32_t> ids;
+  std::vector<std::uint64_t> slot_of;
+  for (const auto& [id, slot] : slots) {
+    ids.push_back(id);
+    slot_of.push_back(slot);
+  }
+  w.put_vector(ids);
+  w.put_vector(slot_of);
+  w.put<std::uint64_t>(origins_.size());
+  for (const Origin& o : origins_) {
+    w.put<std::uint64_t>(o.first_sample);
+    w.put_vector(o.pos);
+  }
+  w.put_vector(lag_time_);
+  w.put_vector(msd_sum_);
+  w.put_vector(msd_count_);
+}
+
+void MeanSquaredDisplacement::load(ByteReader& r, const std::string& context) {
+  const auto max_origins = r.get<std::uint64_t>(), origin_every = r.get<std::uint64_t>();
+  if (max_origins != max_origins_ || origin_every != origin_every_)
+    throw ConfigError(fmt::format("{}: MSD origin settings differ from the checkpoint", context));
+  samples_ = r.get<std::uint64_t>();
+  step_spacing_ = r.get<std::uint64_t>();
+  last_step_ = r.get<std::uint64_t>();
+  first_time_ = r.get<double>();
+  slot_of_id_.clear();
+  const auto ids = r.get_vector<std::uint32_t>();
+  const auto slot_of = r.get_vector<std::uint64_t>();
+  if (ids.size() != slot_of.size()) throw ConfigError(fmt::format("{}: inconsistent MSD state", context));
+  for (std::size_t k = 0; k < ids.size(); ++k) slot_of_id_[ids[k]] = slot_of[k];
+  origins_.resize(r.get<std::uint64_t>());
+  for (Origin& o : origins_) {
+    o.first_sample = r.get<std::uint64_t>();
+    o.pos = r.get_vector<double>();
+  }
+  lag_time_ = r.get_vector<double>();
+  msd_sum_ = r.get_vector<double>();
+  msd_count_ = r.get_vector<std::size_t>();
+  if (msd_sum_.size() != lag_time_.size() || msd_count_.size() != lag_time_.size())
+    throw ConfigError(fmt::format("{}: inconsistent MSD state", context));
 }
 
 }  // namespace mesodpd

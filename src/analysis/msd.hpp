@@ -1,5 +1,6 @@
 // Mean squared displacement from unwrapped positions, and the self-diffusion coefficient from it.
 #pragma once
+#include "io/byte_buffer.hpp"
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -33,6 +34,11 @@ class MeanSquaredDisplacement {
   double diffusion_coefficient() const;
 
   void write_csv(const std::string& path) const;  // columns time,msd
+
+  // Accumulated state for checkpoints, so a restarted run continues the same averages. load() refuses
+  // state recorded with different settings (naming `context`, the checkpoint file).
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
 
  private:
   struct Origin {

@@ -160,4 +160,24 @@ double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<
   return rho * kT + 2.0 * std::numbers::pi / 3.0 * rho * rho * integral;
 }
 
+void RadialDistribution::save(ByteWriter& w) const {
+  w.put<std::uint64_t>(bins_);
+  w.put<double>(rmax_);
+  w.put_vector(counts_);
+  w.put<double>(ideal_pair_density_sum_);
+  w.put<std::uint64_t>(samples_);
+}
+
+void RadialDistribution::load(ByteReader& r, const std::string& context) {
+  const auto bins = r.get<std::uint64_t>();
+  const double rmax = r.get<double>();
+  if (bins != bins_ || rmax != rmax_)
+    throw ConfigError(fmt::format("analysis.rdf.bins/rmax: {}/{} differ from the checkpoint's {}/{} ({})", bins_,
+                                  rmax_, bins, rmax, context));
+  counts_ = r.get_vector<std::uint64_t>();
+  ideal_pair_density_sum_ = r.get<double>();
+  samples_ = r.get<std::uint64_t>();
+  if (counts_.size() != bins_) throw ConfigError(fmt::format("{}: inconsistent RDF state", context));
+}
+
 }  // namespace mesodpd

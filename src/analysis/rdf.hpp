@@ -1,5 +1,6 @@
 // Radial distribution function g(r) of a periodic orthorhombic box, and the virial EOS from it.
 #pragma once
+#include "io/byte_buffer.hpp"
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,11 @@ class RadialDistribution {
   double bin_width() const { return dr_; }
 
   void write_csv(const std::string& path) const;  // columns r,g
+
+  // Accumulated state for checkpoints, so a restarted run continues the same averages. load() refuses
+  // state recorded with different settings (naming `context`, the checkpoint file).
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
 
  private:
   std::size_t bins_;

@@ -206,4 +206,34 @@ void write_viscosity_summary_csv(const std::string& path, const ViscosityFit& fi
   if (!os) throw std::runtime_error(fmt::format("write_viscosity_summary_csv: write to '{}' failed", path));
 }
 
+void PoiseuilleProfile::save(ByteWriter& w) const {
+  w.put<std::uint64_t>(bins_);
+  w.put<std::uint64_t>(blocks_);
+  w.put<std::uint64_t>(samples_);
+  w.put<std::uint64_t>(block_size_);
+  w.put<std::uint64_t>(full_blocks_);
+  w.put<std::uint64_t>(in_current_);
+  w.put_vector(block_vsum_);
+  w.put_vector(block_count_);
+  w.put_vector(total_vsum_);
+  w.put_vector(total_count_);
+}
+
+void PoiseuilleProfile::load(ByteReader& r, const std::string& context) {
+  const auto bins = r.get<std::uint64_t>(), blocks = r.get<std::uint64_t>();
+  if (bins != bins_ || blocks != blocks_)
+    throw ConfigError(fmt::format("poiseuille.bins/blocks: {}/{} differ from the checkpoint's {}/{} ({})", bins_,
+                                  blocks_, bins, blocks, context));
+  samples_ = r.get<std::uint64_t>();
+  block_size_ = r.get<std::uint64_t>();
+  full_blocks_ = r.get<std::uint64_t>();
+  in_current_ = r.get<std::uint64_t>();
+  block_vsum_ = r.get_vector<double>();
+  block_count_ = r.get_vector<double>();
+  total_vsum_ = r.get_vector<double>();
+  total_count_ = r.get_vector<double>();
+  if (total_vsum_.size() != bins_ || total_count_.size() != bins_ || block_vsum_.size() != block_count_.size())
+    throw ConfigError(fmt::format("{}: inconsistent Poiseuille profile state", context));
+}
+
 }  // namespace mesodpd

@@ -1,5 +1,6 @@
 // Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
 #pragma once
+#include "io/byte_buffer.hpp"
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -47,6 +48,11 @@ class PoiseuilleProfile {
   int gradient_axis() const { return gradient_axis_; }
 
   void write_csv(const std::string& path) const;  // columns z,v_mean,v_err,v_fit
+
+  // Accumulated state for checkpoints, so a restarted run continues the same averages. load() refuses
+  // state recorded with different settings (naming `context`, the checkpoint file).
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
 
  private:
   struct LineFit {

@@ -111,6 +111,10 @@ class Observers {
   void progress(std::uint64_t step) {
     if (progress_) progress_->update(step);
   }
+  // Running averages (thermo means, profile, RDF, MSD) for checkpoints. Each part is a length-prefixed
+  // section, so a restart with an analysis switched off skips it and one switched on starts afresh.
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
 
  private:
   std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
@@ -163,6 +167,42 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
       lammps_.emplace(out(name), s.dump.fields, restarted);
     }
   }
+}
+
+namespace {
+template <class T>
+void save_section(ByteWriter& w, const std::optional<T>& part) {
+  ByteWriter section;
+  if (part) part->save(section);
+  w.put<std::uint8_t>(part ? 1 : 0);
+  w.put_vector(section.bytes());
+}
+template <class T>
+void load_section(ByteReader& r, std::optional<T>& part, const std::string& context) {
+  const bool present = r.get<std::uint8_t>() != 0;
+  const std::vector<std::byte> bytes = r.get_vector<std::byte>();
+  if (!present || !part) return;
+  ByteReader section(bytes, context);
+  part->load(section, context);
+}
+}  // namespace
+
+void Observers::save(ByteWriter& w) const {
+  w.put<double>(temperature_sum_);
+  w.put<double>(pressure_sum_);
+  w.put<std::uint64_t>(thermo_samples_);
+  save_section(w, profile_);
+  save_section(w, rdf_);
+  save_section(w, msd_);
+}
+
+void Observers::load(ByteReader& r, const std::string& context) {
+  temperature_sum_ = r.get<double>();
+  pressure_sum_ = r.get<double>();
+  thermo_samples_ = r.get<std::uint64_t>();
+  load_section(r, profile_, context);
+  load_section(r, rdf_, context);
+  load_section(r, msd_, context);
 }
 
 void Observers::write_frame(std::uint64_t step) {
@@ -322,6 +362,11 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       box_.len.z < 2 * forces_.table().max_cutoff)
     throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
   observers_ = std::make_unique<Observers>(*this, options_, restarted);
+  if (!pending_observer_state_.empty()) {
+    ByteReader r(pending_observer_state_, options_.restart.string());
+    observers_->load(r, options_.restart.string());
+    pending_observer_state_.clear();
+  }
   if (!restarted) observers_->observe(step_, sums_);
 }
 
@@ -433,7 +478,7 @@ std::string Simulation::run() {
 }
 
 namespace {
-constexpr std::uint64_t kStateTag = 0x4d45534f44504432ull;  // "MESODPD2": payload layout of this file
+constexpr std::uint64_t kStateTag = 0x4d45534f44504433ull;  // "MESODPD3": payload layout of this file
 }
 
 void Simulation::write_checkpoint(const std::filesystem::path& file) const {
@@ -453,6 +498,8 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
   w.put_vector(first_n(p_.species));
   for (const auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) w.put_vector(first_n(*v));
   for (const auto* v : {&p_.ix, &p_.iy, &p_.iz}) w.put_vector(first_n(*v));
+  w.put<std::uint8_t>(observers_ ? 1 : 0);
+  if (observers_) observers_->save(w);
   write_checkpoint_file(file, w.bytes());
 }
 
@@ -479,6 +526,11 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   p_.species = r.get_vector<std::int32_t>();
   for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) *v = r.get_vector<double>();
   for (auto* v : {&p_.ix, &p_.iy, &p_.iz}) *v = r.get_vector<std::int32_t>();
+  // Observer state is applied once the observers exist (end of the constructor).
+  if (r.get<std::uint8_t>() != 0) {
+    const auto rest = r.get_bytes(r.remaining());
+    pending_observer_state_.assign(rest.begin(), rest.end());
+  }
   p_.n_local = n;
   p_.n_ghost = 0;
   p_.hx.assign(n, 0);

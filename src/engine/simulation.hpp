@@ -86,6 +86,7 @@ class Simulation {
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
   std::uint64_t final_step_ = 0;
+  std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
   PairSums sums_;
   bool sums_valid_ = false;
