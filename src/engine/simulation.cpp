@@ -161,7 +161,9 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
     const bool gsd = s.dump.format == DumpFormat::Gsd;
     const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
     if (gsd) {
-      gsd_.emplace(out(name), s.dump.fields, restarted);
+      // Frames after the checkpoint's step are dropped from the index, as trim_lammps_dump does for text.
+      gsd_.emplace(out(name), s.dump.fields, restarted,
+                   restarted ? std::optional<std::uint64_t>(sim.current_step()) : std::nullopt);
     } else {
       if (restarted && std::filesystem::exists(out(name))) trim_lammps_dump(out(name), sim.current_step());
       lammps_.emplace(out(name), s.dump.fields, restarted);

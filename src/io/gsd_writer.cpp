@@ -46,6 +46,14 @@ enum GsdType : std::uint8_t {
   kFloat32 = 9,
 };
 
+// Bytes per element of a GSD type code (the file layer's full list, not only the types we write);
+// 0 for an unknown code.
+std::uint64_t gsd_type_size(std::uint8_t type) {
+  // uint8, uint16, uint32, uint64, int8, int16, int32, int64, float, double, character
+  constexpr std::array<std::uint8_t, 12> kSizes = {0, 1, 2, 4, 8, 1, 2, 4, 8, 4, 8, 1};
+  return type < kSizes.size() ? kSizes[type] : 0;
+}
+
 std::array<char, 64> fixed_string(const std::string& s) {
   std::array<char, 64> out{};
   std::memcpy(out.data(), s.data(), std::min(s.size(), out.size() - 1));
@@ -81,7 +89,8 @@ struct GsdWriter::Chunk {
   }
 };
 
-GsdWriter::GsdWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append)
+GsdWriter::GsdWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append,
+                     std::optional<std::uint64_t> keep_through_step)
     : path_(std::move(path)), fields_(parse_trajectory_fields(fields, path_)) {
   std::error_code ec;
   const bool existing =
@@ -91,6 +100,7 @@ GsdWriter::GsdWriter(std::filesystem::path path, const std::vector<std::string>&
   try {
     if (existing) {
       open_existing();
+      if (keep_through_step) drop_frames_after_step(*keep_through_step);
     } else {
       create_file();
     }
@@ -235,6 +245,68 @@ void GsdWriter::open_existing() {
     index_.push_back(e);
   }
   next_frame_ = index_.empty() ? 0 : index_.back().frame + 1;
+}
+
+// Drops the frames from the first one with configuration/step > last_step to the end. A frame
+// without a configuration/step chunk has the step of frame 0, or 0 (the hoomd schema's defaults).
+void GsdWriter::drop_frames_after_step(std::uint64_t last_step) {
+  const auto step_name = std::find(names_.begin(), names_.end(), std::string("configuration/step"));
+  const auto step_id = static_cast<std::uint16_t>(step_name - names_.begin());
+  const bool has_steps = step_name != names_.end();
+  auto read_step = [&](const IndexEntry& e) {
+    if (e.type != kUint64 || e.n * e.m == 0) {
+      fail("cannot truncate after step " + std::to_string(last_step) + ": configuration/step of frame " +
+           std::to_string(e.frame) + " is not a uint64 value");
+    }
+    std::uint64_t step = 0;
+    read_at(&step, sizeof step, static_cast<std::uint64_t>(e.location), "configuration/step chunk");
+    return step;  // GSD files are little-endian, like every host this engine builds on
+  };
+
+  std::optional<std::uint64_t> frame0_step;
+  std::size_t cut = index_.size();  // first index entry to drop
+  for (std::size_t begin = 0; begin < index_.size();) {
+    std::size_t end = begin;
+    std::optional<std::uint64_t> step;
+    while (end < index_.size() && index_[end].frame == index_[begin].frame) {
+      if (has_steps && index_[end].id == step_id) step = read_step(index_[end]);
+      ++end;
+    }
+    if (index_[begin].frame == 0) frame0_step = step;
+    if (step.value_or(frame0_step.value_or(0)) > last_step) {
+      cut = begin;
+      break;
+    }
+    begin = end;
+  }
+  if (cut == index_.size()) return;
+
+  // Zero the dropped entries one frame at a time, last frame first, so that an interruption leaves
+  // an index that ends with whole frames followed only by empty entries, as readers require.
+  const std::vector<std::byte> zeros(kEntrySize * (index_.size() - cut));
+  for (std::size_t end = index_.size(); end > cut;) {
+    std::size_t begin = end - 1;
+    while (begin > cut && index_[begin - 1].frame == index_[end - 1].frame) --begin;
+    write_at(zeros.data(), (end - begin) * kEntrySize, index_location_ + begin * kEntrySize, "index");
+    end = begin;
+  }
+  index_.resize(cut);
+  next_frame_ = index_.empty() ? 0 : index_.back().frame + 1;
+
+  // Give back the space after the last byte still referenced. The dropped frames' data is usually
+  // all of it; an index or namelist that was moved to the end of the file after them keeps it.
+  std::uint64_t used = std::max({std::uint64_t{kHeaderSize}, index_location_ + index_allocated_ * kEntrySize,
+                                 namelist_location_ + namelist_blocks_ * kNameBlock});
+  for (const auto& e : index_) {
+    const std::uint64_t size = gsd_type_size(e.type);
+    if (size == 0) return;  // a chunk of unknown extent: keep everything
+    used = std::max(used, static_cast<std::uint64_t>(e.location) + e.n * e.m * size);
+  }
+  if (used < file_size_) {
+    if (::ftruncate(fd_, static_cast<off_t>(used)) != 0)
+      fail(std::string("cannot truncate: ") + std::strerror(errno));
+    file_size_ = used;
+  }
 }
 
 std::uint16_t GsdWriter::name_id(const std::string& name) {

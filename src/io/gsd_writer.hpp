@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,13 @@ class GsdWriter {
   // `fields` ⊆ {"id","species","position","velocity","force","image"}. Without `append` the file
   // is created or truncated. With `append` frames are added after those of an existing GSD 2.x
   // "hoomd" schema file (a missing or empty file is created); other files are rejected.
-  GsdWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append = false);
+  // With `append` and `keep_through_step` = K (a restart from a checkpoint at step K), the existing
+  // frames from the first one whose configuration/step exceeds K onwards are dropped first: their
+  // index entries are zeroed, so readers no longer see them, and the file is cut after the last
+  // byte still in use (their chunk data, unless the index or namelist was moved after it). Frames
+  // are assumed to be in increasing step order, as every writer of a trajectory produces them.
+  GsdWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append = false,
+            std::optional<std::uint64_t> keep_through_step = std::nullopt);
   ~GsdWriter();
   GsdWriter(const GsdWriter&) = delete;
   GsdWriter& operator=(const GsdWriter&) = delete;
@@ -67,6 +74,7 @@ class GsdWriter {
 
   void create_file();
   void open_existing();
+  void drop_frames_after_step(std::uint64_t last_step);
   void write_header();
   void write_at(const void* data, std::size_t size, std::uint64_t offset, const char* what);
   void read_at(void* data, std::size_t size, std::uint64_t offset, const char* what);

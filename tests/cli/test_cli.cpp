@@ -460,6 +460,28 @@ TEST(Cli, LammpsDataImport) {
   }
 }
 
+// init.velocities = "file" (the default with init.lammps_data) needs a Velocities section in the data file.
+TEST(Cli, DataFileWithoutVelocitiesNeedsAnotherVelocityInit) {
+  const fs::path dir = work_dir();
+  write_text(dir / "plain.data", grid_data(false));
+  const std::vector<BadInput> cases = {
+      {"default velocities (run)", two_species_data_config("plain.data"), "run bad.toml --out out",
+       {"init.velocities", "plain.data", "Velocities"}},
+      {"default velocities (check)", two_species_data_config("plain.data"), "check bad.toml",
+       {"init.velocities", "plain.data", "Velocities"}},
+      {"explicit file", two_species_data_config("plain.data", "velocities = \"file\""), "run bad.toml --out out",
+       {"init.velocities", "plain.data", "Velocities"}},
+  };
+  for (const auto& c : cases) expect_config_error(dir, c);
+  // The other choices accept the same file.
+  for (const std::string v : {"maxwell", "zero"}) {
+    SCOPED_TRACE(v);
+    write_text(dir / "ok.toml", two_species_data_config("plain.data", "velocities = \"" + v + "\""));
+    const CliResult r = mesodpd(dir, "run ok.toml --out ok_" + v + " --steps 2");
+    EXPECT_EQ(r.code, 0) << r.err;
+  }
+}
+
 // Uninterrupted run to step 30 against 10 steps then a restart to 30, for both neighbour methods.
 TEST(Cli, RestartContinuesBitIdentically) {
   const fs::path dir = work_dir();
@@ -500,10 +522,9 @@ TEST(Cli, RestartIntoAnotherDirectory) {
   EXPECT_EQ(frames[0].step, 15u);
 }
 
-// A GSD trajectory of a run that went past its last checkpoint must not repeat frames after a restart.
-// Disabled: GsdWriter's append mode keeps every existing frame (frames 11 and 12 appear twice);
-// it needs a way to drop frames after the checkpoint's step, like the LAMMPS dump and thermo.csv.
-TEST(Cli, DISABLED_GsdRestartDoesNotRepeatFrames) {
+// A GSD trajectory of a run that went past its last checkpoint must not repeat frames after a restart:
+// the frames after the checkpoint's step (11 and 12) are dropped, like the LAMMPS dump's and thermo.csv's.
+TEST(Cli, GsdRestartDoesNotRepeatFrames) {
   if (!have_python_gsd()) GTEST_SKIP() << "/usr/bin/python3 with numpy and gsd not available";
   const fs::path dir = work_dir();
   const std::string output = "thermo_every = 1\ncheckpoint_every = 5";

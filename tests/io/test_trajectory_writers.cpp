@@ -494,6 +494,88 @@ TEST_F(TrajectoryTest, GsdAppendContinuesExistingFile) {
   check_with_python(p, {expected_frame_json(c, 30, all, true)});
 }
 
+// A restart from a checkpoint at step K drops the frames after K before appending, and gives back
+// their space; the python readers must see a valid file with no repeated step.
+TEST_F(TrajectoryTest, GsdAppendKeepThroughStepDropsLaterFrames) {
+  if (!python_gsd_available()) GTEST_SKIP() << "/usr/bin/python3 with numpy and gsd is not available";
+  const auto p = dir_ / "restart.gsd";
+  const FieldSet all = parse_trajectory_fields(kAllFields, p);
+  std::vector<System> s;
+  for (int k = 0; k < 5; ++k) s.push_back(gsd_system(6, 0.37 * k));
+  std::uintmax_t size_after_two = 0;
+  {
+    GsdWriter w(p, kAllFields);
+    w.write_frame(s[0].view(0));
+    w.write_frame(s[1].view(10));
+    size_after_two = fs::file_size(p);
+    w.write_frame(s[2].view(20));
+    w.write_frame(s[3].view(30));
+  }
+  {
+    // K = 15 lies between frames: steps 20 and 30 go, and with them the data they owned.
+    GsdWriter w(p, kAllFields, /*append=*/true, /*keep_through_step=*/15);
+    EXPECT_EQ(w.frame_count(), 2u);
+    EXPECT_EQ(fs::file_size(p), size_after_two);
+  }
+  check_with_python(p, {expected_frame_json(s[0], 0, all, true), expected_frame_json(s[1], 10, all, true)});
+  {
+    GsdWriter w(p, kAllFields, /*append=*/true, /*keep_through_step=*/10);  // nothing after 10 left
+    EXPECT_EQ(w.frame_count(), 2u);
+    w.write_frame(s[4].view(20));
+  }
+  check_with_python(p, {expected_frame_json(s[0], 0, all, true), expected_frame_json(s[1], 10, all, true),
+                        expected_frame_json(s[4], 20, all, true)});
+
+  // Without keep_through_step every frame is kept.
+  GsdWriter(p, kAllFields, /*append=*/true).write_frame(s[2].view(20));
+  check_with_python(p, {expected_frame_json(s[0], 0, all, true), expected_frame_json(s[1], 10, all, true),
+                        expected_frame_json(s[4], 20, all, true), expected_frame_json(s[2], 20, all, true)});
+
+  // K = 0 keeps only the frame of step 0.
+  {
+    GsdWriter w(p, kAllFields, /*append=*/true, /*keep_through_step=*/0);
+    EXPECT_EQ(w.frame_count(), 1u);
+    w.write_frame(s[3].view(1));
+  }
+  check_with_python(p, {expected_frame_json(s[0], 0, all, true), expected_frame_json(s[3], 1, all, true)});
+
+  // K before the first frame drops them all; the new first frame gets configuration/dimensions again.
+  const auto q = dir_ / "late.gsd";
+  GsdWriter(q, kAllFields).write_frame(s[1].view(100));
+  {
+    GsdWriter w(q, kAllFields, /*append=*/true, /*keep_through_step=*/50);
+    EXPECT_EQ(w.frame_count(), 0u);
+    w.write_frame(s[2].view(60));
+  }
+  check_with_python(q, {expected_frame_json(s[2], 60, all, true)});
+}
+
+// Truncation after the index has moved to the end of the file (here: more than 128 entries) keeps
+// the file valid; the dropped frames' data stays as unreferenced space before the index.
+TEST_F(TrajectoryTest, GsdKeepThroughStepAfterIndexGrowth) {
+  if (!python_gsd_available()) GTEST_SKIP() << "/usr/bin/python3 with numpy and gsd is not available";
+  const auto p = dir_ / "grown.gsd";
+  const std::vector<std::string> fields = {"species", "position"};
+  const FieldSet set = parse_trajectory_fields(fields, p);
+  std::vector<std::string> expected;
+  {
+    GsdWriter w(p, fields);
+    for (std::uint64_t k = 0; k < 60; ++k) {
+      const System s = gsd_system(5, 0.01 * static_cast<double>(k));
+      w.write_frame(s.view(k * 10, /*with_names=*/false));
+      if (k <= 45) expected.push_back(expected_frame_json(s, k * 10, set, false));
+    }
+  }
+  {
+    GsdWriter w(p, fields, /*append=*/true, /*keep_through_step=*/455);
+    EXPECT_EQ(w.frame_count(), 46u);
+    const System s = gsd_system(5, 9.0);
+    w.write_frame(s.view(460, /*with_names=*/false));
+    expected.push_back(expected_frame_json(s, 460, set, false));
+  }
+  check_with_python(p, expected);
+}
+
 TEST_F(TrajectoryTest, GsdAppendWithMoreFieldsAddsNamesToTheFile) {
   if (!python_gsd_available()) GTEST_SKIP() << "/usr/bin/python3 with numpy and gsd is not available";
   const auto p = dir_ / "more_fields.gsd";
