@@ -105,3 +105,27 @@ TEST(PairNoise, ZeroMeanUnitVarianceAndNoCorrelation) {
     EXPECT_NEAR(s4 / n, kind == NoiseKind::Uniform ? 1.8 : 3.0, 0.05);
   }
 }
+
+TEST(PairForce, ActionEqualsReactionExactly) {
+  // The force on j is evaluated from j's side (displacement and relative velocity negated, same noise
+  // because xi_ij = xi_ji): it must be exactly the negative of the force on i, bit for bit.
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double s : {2.0, 1.0, 0.5, 0.25, 1.7}) {
+    const DpdPairParams p = params(s, 1.0, 1.2);
+    for (int k = 0; k < 2000; ++k) {
+      const Vec3 d{u(rng), u(rng), u(rng)}, v{3 * u(rng), 3 * u(rng), 3 * u(rng)};
+      const double r = std::sqrt(dot(d, d));
+      const std::uint32_t id_i = 7 + static_cast<std::uint32_t>(k), id_j = 9000 + static_cast<std::uint32_t>(k);
+      auto force_on = [&](Vec3 dd, Vec3 vv, std::uint32_t a, std::uint32_t b) {
+        const double rv = dot(dd, vv) / r;
+        const DpdPairForce f = dpd_pair_force(p, r, rv, pair_noise(3, 17, a, b, NoiseKind::Gaussian), 5.0);
+        return ((f.fc + f.fd + f.fr) / r) * dd;
+      };
+      const Vec3 fi = force_on(d, v, id_i, id_j), fj = force_on(-d, -v, id_j, id_i);
+      ASSERT_EQ(fi.x, -fj.x);
+      ASSERT_EQ(fi.y, -fj.y);
+      ASSERT_EQ(fi.z, -fj.z);
+    }
+  }
+}
