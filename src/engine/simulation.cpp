@@ -249,13 +249,13 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
   if (thermo_due(step)) {
     std::vector<double> mass;
     for (const auto& sp : s.species) mass.push_back(sp.mass);
-    ThermoState t = compute_thermo(p, mass, sim_.box(), sums);
+    ThermoState t = compute_thermo(p, mass, sim_.box(), sums, s.poiseuille.enabled ? s.poiseuille.flow_axis : -1);
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = sim_.neighbor_builds();
     thermo_ << thermo_csv_row(t) << '\n';
     thermo_.flush();
-    temperature_sum_ += t.temperature;
+    temperature_sum_ += t.temperature_transverse;
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
   }
@@ -286,8 +286,9 @@ std::string Observers::finish() {
   const SimulationSpec& s = sim_.spec();
   std::string summary;
   if (thermo_samples_ > 0)
-    summary += fmt::format("mean temperature {:.5f} (target {}), mean pressure {:.4f} over {} thermo rows\n",
-                           temperature_sum_ / static_cast<double>(thermo_samples_), s.kT,
+    summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
+                           temperature_sum_ / static_cast<double>(thermo_samples_),
+                           s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
   if (profile_) {
     const Box& b = sim_.box();
@@ -464,7 +465,7 @@ ThermoState Simulation::thermo() {
     // Recompute the pair sums at the current step; the forces come out bit-identical.
     compute_forces(true);
   }
-  ThermoState t = compute_thermo(p_, mass_, box_, sums_);
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_, spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1);
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
   t.neighbor_builds = neighbor_builds();

@@ -15,7 +15,7 @@ double unfixed128(Int128 q) { return static_cast<double>(q) / kKineticScale; }
 }  // namespace
 
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums) {
+                           const PairSums& sums, int flow_axis) {
   ThermoState s;
   Int128 kq[6] = {0, 0, 0, 0, 0, 0}, mq[3] = {0, 0, 0};
   for (std::size_t i = 0; i < p.n_local; ++i) {
@@ -39,6 +39,8 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
   const double v = box.volume();
   s.kinetic_energy = 0.5 * (k[0] + k[1] + k[2]);
   s.temperature = (k[0] + k[1] + k[2]) / dof;
+  s.temperature_transverse =
+      flow_axis < 0 ? s.temperature : (k[0] + k[1] + k[2] - k[static_cast<std::size_t>(flow_axis)]) / (dof * 2.0 / 3.0);
   for (std::size_t q = 0; q < 6; ++q) s.p_tensor[q] = (k[q] + sums.virial[q]) / v;
   s.pressure = (s.p_tensor[0] + s.p_tensor[1] + s.p_tensor[2]) / 3.0;
   s.pressure_conservative = (k[0] + k[1] + k[2] + sums.virial_conservative) / (3.0 * v);
@@ -49,15 +51,16 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
 
 std::string thermo_csv_header() {
   return "step,time,temperature,pressure,pxx,pyy,pzz,pxy,pxz,pyz,momentum_x,momentum_y,momentum_z,"
-         "potential_energy,kinetic_energy,pressure_conservative,neighbor_builds";
+         "potential_energy,kinetic_energy,pressure_conservative,neighbor_builds,temperature_transverse";
 }
 
 std::string thermo_csv_row(const ThermoState& s) {
   return fmt::format("{},{:.10g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.6e},{:.6e},{:.6e},"
-                     "{:.12g},{:.12g},{:.12g},{}",
+                     "{:.12g},{:.12g},{:.12g},{},{:.12g}",
                      s.step, s.time, s.temperature, s.pressure, s.p_tensor[0], s.p_tensor[1], s.p_tensor[2],
                      s.p_tensor[3], s.p_tensor[4], s.p_tensor[5], s.momentum[0], s.momentum[1], s.momentum[2],
-                     s.potential_energy, s.kinetic_energy, s.pressure_conservative, s.neighbor_builds);
+                     s.potential_energy, s.kinetic_energy, s.pressure_conservative, s.neighbor_builds,
+                     s.temperature_transverse);
 }
 
 }  // namespace mesodpd

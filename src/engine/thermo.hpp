@@ -15,6 +15,9 @@ struct ThermoState {
   std::uint64_t step = 0;
   double time = 0.0;
   double temperature = 0.0;               // sum m v^2 / (3N - 3): total momentum is conserved
+  // Temperature from the velocity components across a driven flow only (the flow axis excluded), so a
+  // streaming velocity does not count as heat; equals `temperature` when there is no flow axis.
+  double temperature_transverse = 0.0;
   double pressure = 0.0;                  // trace/3 of the pressure tensor (seed 000 Eqs. 11-12)
   std::array<double, 6> p_tensor{};       // xx yy zz xy xz yz: (sum m v v + sum r_ij F_ij) / V
   double pressure_conservative = 0.0;     // kinetic + conservative virial only (seed 003 EOS)
@@ -24,8 +27,9 @@ struct ThermoState {
   std::uint64_t neighbor_builds = 0;
 };
 
+// flow_axis: 0, 1, 2 for a driven flow along x, y, z (reverse Poiseuille), -1 for none.
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums);
+                           const PairSums& sums, int flow_axis = -1);
 
 // The header of thermo.csv and one row, at full precision.
 std::string thermo_csv_header();
