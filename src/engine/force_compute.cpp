@@ -14,13 +14,9 @@
 
 namespace mesodpd {
 
-// Arithmetic type of the pair passes: double, or float with -DMESODPD_SINGLE=ON. Positions,
-// velocities and the fixed-point sums stay double/integer either way (docs/performance.md).
 #ifdef MESODPD_SINGLE_PRECISION
-using PairReal = float;
 constexpr double kFilterMargin = 1e-4;  // float rounding of the filter's displacement
 #else
-using PairReal = double;
 constexpr double kFilterMargin = 1e-10;
 #endif
 
@@ -47,8 +43,10 @@ struct PairBatch {
 
 ForceCompute::ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {
   weight_kind_ = table_.params.empty() ? WeightKind::General : weight_kind_of(table_.params[0].s);
-  for (const DpdPairParams& q : table_.params)
+  for (const DpdPairParams& q : table_.params) {
     if (weight_kind_of(q.s) != weight_kind_) weight_kind_ = WeightKind::General;
+    params_real_.push_back(q.as<PairReal>());
+  }
 }
 ForceCompute::~ForceCompute() = default;
 ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
@@ -81,16 +79,13 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;
   const double hlx = 0.5 * lx, hly = 0.5 * ly, hlz = 0.5 * lz;  // half lengths
   const int ns = table_.n_species;
-  std::vector<DpdPairParamsT<PairReal>> params_real;
-  for (const DpdPairParams& q : table_.params) params_real.push_back(q.as<PairReal>());
-  const DpdPairParamsT<PairReal>* params = params_real.data();
+  const DpdPairParamsT<PairReal>* params = params_real_.data();
   const PairReal inv_sqrt_dt_r = static_cast<PairReal>(1.0 / std::sqrt(dt));
   const std::uint64_t seed = noise_.seed;
   const NoiseKind kind = noise_.kind;
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(table_.max_cutoff * table_.max_cutoff * (1.0 + kFilterMargin));
-
 
   // Integer sums: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
   std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};

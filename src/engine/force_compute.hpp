@@ -10,6 +10,7 @@
 #include "core/particle_data.hpp"
 #include "core/philox.hpp"
 #include "neighbor/neighbor_list.hpp"
+#include "physics/dpd_pair.hpp"
 #include "physics/pair_table.hpp"
 
 namespace mesodpd {
@@ -27,6 +28,14 @@ struct NoiseSettings {
   std::uint64_t seed = 1;
   NoiseKind kind = NoiseKind::Uniform;
 };
+
+// Arithmetic type of the pair passes: double, or float with -DMESODPD_SINGLE=ON. Positions,
+// velocities and the fixed-point sums stay double/integer either way (docs/performance.md).
+#ifdef MESODPD_SINGLE_PRECISION
+using PairReal = float;
+#else
+using PairReal = double;
+#endif
 
 struct PairBatch;  // per-thread workspace, defined in force_compute.cpp
 
@@ -50,6 +59,7 @@ class ForceCompute {
                     PairSums& sums);
 
   PairTable table_;
+  std::vector<DpdPairParamsT<PairReal>> params_real_;  // table_.params in the pair arithmetic type
   NoiseSettings noise_;
   WeightKind weight_kind_ = WeightKind::General;  // shared by all pairs, else General
   std::vector<std::vector<std::int64_t>> buffers_;  // per thread: fx, fy, fz interleaved

@@ -211,11 +211,7 @@ void Observers::write_frame(std::uint64_t step) {
   const ParticleData& p = sim_.particles();
   const SimulationSpec& s = sim_.spec();
   std::vector<std::string> names;
-  std::vector<double> masses;
-  for (const auto& sp : s.species) {
-    names.push_back(sp.name);
-    masses.push_back(sp.mass);
-  }
+  for (const auto& sp : s.species) names.push_back(sp.name);
   FrameView f;
   f.step = step;
   f.time = static_cast<double>(step) * s.dt;
@@ -237,7 +233,7 @@ void Observers::write_frame(std::uint64_t step) {
   f.iy = p.iy.data();
   f.iz = p.iz.data();
   f.species_names = &names;
-  f.species_mass = &masses;
+  f.species_mass = &sim_.species_mass();
   if (lammps_) lammps_->write_frame(f);
   if (gsd_) gsd_->write_frame(f);
 }
@@ -247,9 +243,7 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
   const ParticleData& p = sim_.particles();
   const std::size_t n = p.n_local;
   if (thermo_due(step)) {
-    std::vector<double> mass;
-    for (const auto& sp : s.species) mass.push_back(sp.mass);
-    ThermoState t = compute_thermo(p, mass, sim_.box(), sums, s.poiseuille.enabled ? s.poiseuille.flow_axis : -1);
+    ThermoState t = compute_thermo(p, sim_.species_mass(), sim_.box(), sums, sim_.flow_axis());
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = sim_.neighbor_builds();
@@ -291,11 +285,7 @@ std::string Observers::finish() {
                            s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
   if (profile_) {
-    const Box& b = sim_.box();
-    double mass = 0;
-    for (std::size_t i = 0; i < sim_.particles().n_local; ++i)
-      mass += s.species[static_cast<std::size_t>(sim_.particles().species[i])].mass;
-    const double rho = static_cast<double>(sim_.particles().n_local) / b.volume();
+    const double rho = static_cast<double>(sim_.particles().n_local) / sim_.box().volume();
     const PairSpec& pp = s.pair(0, 0);
     const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
     if (profile_->samples() < 2) {
@@ -435,24 +425,23 @@ void Simulation::step() {
 void Simulation::check_health() const {
   const std::size_t n = p_.n_local;
   const double vmax2 = spec_.max_velocity * spec_.max_velocity;
-  std::size_t bad = n;
-#pragma omp parallel for reduction(min : bad) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  auto unhealthy = [&](std::size_t i) {
     const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
     const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) && std::isfinite(v2);
-    if (!finite || v2 > vmax2) bad = std::min(bad, i);
-  }
+    return !finite || v2 > vmax2;
+  };
+  std::size_t bad = n;
+#pragma omp parallel for reduction(min : bad) schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    if (unhealthy(i)) bad = std::min(bad, i);
   if (bad == n) return;
   // Report the smallest id among offenders so the message does not depend on storage order.
   std::uint32_t id = p_.id[bad];
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
-    const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) && std::isfinite(v2);
-    if ((!finite || v2 > vmax2) && p_.id[i] < id) {
+  for (std::size_t i = bad + 1; i < n; ++i)
+    if (p_.id[i] < id && unhealthy(i)) {
       id = p_.id[i];
       bad = i;
     }
-  }
   const double speed = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
   throw BlowUpError(step_, id,
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
@@ -465,7 +454,7 @@ ThermoState Simulation::thermo() {
     // Recompute the pair sums at the current step; the forces come out bit-identical.
     compute_forces(true);
   }
-  ThermoState t = compute_thermo(p_, mass_, box_, sums_, spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1);
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis());
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
   t.neighbor_builds = neighbor_builds();

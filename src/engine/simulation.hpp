@@ -62,6 +62,9 @@ class Simulation {
   ParticleData& particles() { return p_; }
   const Box& box() const { return box_; }
   std::uint64_t current_step() const { return step_; }
+  const std::vector<double>& species_mass() const { return mass_; }
+  // Axis (0, 1, 2) of a driven reverse-Poiseuille flow, or -1: thermo's temperature across the flow.
+  int flow_axis() const { return spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1; }
   std::uint64_t final_step() const { return final_step_; }
   const NeighborList& neighbor_list() const { return nlist_; }
   // Neighbour-list builds since step 0, including those before a restart.

@@ -47,30 +47,29 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order_[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
   }
-  if (settings_.sort) {
-    p.permute(order_);
-    for (std::size_t k = 0; k < n; ++k) {
-      order_[k] = static_cast<std::uint32_t>(k);
-    }
-    std::vector<std::uint32_t> sorted_cells(n);
-#pragma omp parallel for schedule(static)
-    for (std::size_t c = 0; c < nc; ++c)
-      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) sorted_cells[k] = static_cast<std::uint32_t>(c);
-    cell_index_.swap(sorted_cells);
-  }
-  // order_[k] is the storage index of the k-th particle in cell order.
   cells_only_ = settings_.skin <= 0.0 && settings_.sort && grid_.has_half_stencil();
+  if (settings_.sort) p.permute(order_);
   if (cells_only_) {
+    // The force loop walks cell_start_ over the sorted storage; no list, order or per-particle cell.
     offsets_.clear();
     neighbors_.clear();
     ++builds_;
     return;
   }
+  if (settings_.sort) {
+    // Storage is now in cell order: the k-th particle of the cell order is particle k.
+#pragma omp parallel for schedule(static)
+    for (std::size_t c = 0; c < nc; ++c)
+      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        order_[k] = k;
+        cell_index_[k] = static_cast<std::uint32_t>(c);
+      }
+  }
+  // order_[k] is the storage index of the k-th particle in cell order.
 
   const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
   const double range2 = range * range;
 
-  // Two passes (count, then fill) so rows can be written in parallel into one contiguous array.
   // Grids with three or more cells per direction use the half stencil (own cell with j > i, plus 13
   // forward cells); smaller grids visit each distinct neighbour cell and keep pairs with j > i.
   const bool half = grid_.has_half_stencil() && settings_.sort;

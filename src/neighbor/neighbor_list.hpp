@@ -22,8 +22,8 @@ class NeighborList {
   // True when some particle moved more than skin/2 since the last build (or none was built).
   bool needs_rebuild(const ParticleData& p, const Box& box) const;
 
-  // Optionally sorts `p` by cell, then lists every pair i < j (in storage order) whose
-  // minimum-image distance is below cutoff + skin.
+  // Optionally sorts `p` by cell, then lists every unordered pair once whose minimum-image distance
+  // is below cutoff + skin (or, in cell-pair mode, only bins and sorts).
   void build(ParticleData& p, const Box& box);
 
   // Cell-pair mode: with no skin the list would be rebuilt every step anyway, so build() only bins and
