@@ -1,6 +1,8 @@
 // Radial distribution function g(r) of a periodic orthorhombic box, and the virial EOS from it.
 #include "analysis/rdf.hpp"
 
+#include "physics/dpd_pair.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -150,10 +152,16 @@ void RadialDistribution::write_csv(const std::string& path) const {
 double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<double>& g, double dr,
                                 double rho, double kT, double a, double rc) {
   if (r.size() != g.size()) throw std::invalid_argument("virial_pressure_from_rdf: r and g differ in length");
+  // F^C from the engine's own force law (physics/dpd_pair.hpp), not a second copy of the formula.
+  DpdPairParams conservative;
+  conservative.a = a;
+  conservative.rc = rc;
+  conservative.rd = rc;
+  conservative.rcut2 = rc * rc;
   double integral = 0.0;
   for (std::size_t b = 0; b < r.size(); ++b) {
     if (r[b] >= rc) continue;  // F^C vanishes beyond the cutoff
-    const double fc = a * (1.0 - r[b] / rc);
+    const double fc = dpd_pair_force(conservative, r[b], 0.0, 0.0, 1.0).fc;
     integral += r[b] * fc * g[b] * r[b] * r[b] * dr;
   }
   // seed 003 line ~303: p = rho kT + (2 pi/3) rho^2 Int r F^C(r) g(r) r^2 dr
