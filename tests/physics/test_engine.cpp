@@ -178,7 +178,7 @@ namespace {
 std::map<std::uint32_t, std::array<double, 6>> state_by_id(const ParticleData& p) {
   std::map<std::uint32_t, std::array<double, 6>> out;
   for (std::size_t i = 0; i < p.n_local; ++i)
-    out[p.id[i]] = {p.x[i] + 0.0 * p.ix[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i]};
+    out[p.id[i]] = {p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i]};
   return out;
 }
 }  // namespace
