@@ -12,6 +12,7 @@
 #include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
 #include "io/config.hpp"
+#include "parallel/comm.hpp"
 
 namespace {
 
@@ -42,20 +43,29 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   opt.progress = spec.progress && !no_progress;
   const auto t0 = std::chrono::steady_clock::now();
   Simulation sim(std::move(spec), opt);
+  const Comm& comm = sim.halo().comm();
   const std::uint64_t first = sim.current_step();
-  fmt::print("mesodpd {}: {} particles, box {} x {} x {}, steps {} -> {}, {} thread(s), output in {}\n", MESODPD_VERSION,
-             sim.particles().n_local, sim.box().len.x, sim.box().len.y, sim.box().len.z, first, sim.final_step(),
-             nthreads, out);
-  std::fflush(stdout);
+  if (comm.root()) {
+    const auto& g = sim.halo().decomposition().grid;
+    fmt::print("mesodpd {}: {} particles, box {} x {} x {}, steps {} -> {}, {} rank(s){}, {} thread(s) per rank, output in {}\n",
+               MESODPD_VERSION, sim.total_particles(), sim.box().len.x, sim.box().len.y, sim.box().len.z, first,
+               sim.final_step(), comm.size(), comm.size() > 1 ? fmt::format(" (grid {}x{}x{})", g[0], g[1], g[2]) : "",
+               nthreads, out);
+    std::fflush(stdout);
+  }
   try {
     const std::string summary = sim.run();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double steps_done = static_cast<double>(sim.final_step() - first);
-    fmt::print("{}", summary);
-    fmt::print("done: {} steps in {:.1f} s ({:.3g} particle-steps/s)\n", sim.final_step() - first, secs,
-               steps_done * static_cast<double>(sim.particles().n_local) / secs);
+    if (comm.root()) {
+      fmt::print("{}", summary);
+      fmt::print("done: {} steps in {:.1f} s ({:.3g} particle-steps/s)\n", sim.final_step() - first, secs,
+                 steps_done * static_cast<double>(sim.total_particles()) / secs);
+    }
   } catch (const BlowUpError& e) {
-    fmt::print(stderr, "\nerror: {}\nthe last good checkpoint (if any) is kept in {}\n", e.what(), out);
+    // Every rank raises the same error (the health check is collective); the root reports it.
+    if (comm.root())
+      fmt::print(stderr, "\nerror: {}\nthe last good checkpoint (if any) is kept in {}\n", e.what(), out);
     return kExitBlowUp;
   }
   return 0;
@@ -64,6 +74,8 @@ int run_command(const std::string& config, const std::string& out, int threads, 
 }  // namespace
 
 int main(int argc, char** argv) {
+  mesodpd::MpiSession mpi(argc, argv);
+  const mesodpd::Comm world = mesodpd::Comm::world();
   CLI::App app{"mesodpd: dissipative particle dynamics engine"};
   app.set_version_flag("--version", std::string("mesodpd ") + MESODPD_VERSION);
   app.require_subcommand(1);
@@ -90,7 +102,7 @@ int main(int argc, char** argv) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
     // A bad command line is a configuration error: exit code 2 and one line, like a bad config.
-    fmt::print(stderr, "error: {} (see mesodpd --help)\n", e.what());
+    if (world.root()) fmt::print(stderr, "error: {} (see mesodpd --help)\n", e.what());
     return kExitConfig;
   }
   try {
@@ -115,10 +127,13 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const mesodpd::ConfigError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    // Configuration errors are found identically on every rank (or shared by Comm::on_root).
+    if (world.root()) fmt::print(stderr, "error: {}\n", e.what());
     return kExitConfig;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    // Anything else may have happened on one rank only: the others could be waiting for it.
+    fmt::print(stderr, "error{}: {}\n", world.distributed() ? fmt::format(" on rank {}", world.rank()) : "", e.what());
+    if (world.distributed()) world.abort(1);
     return 1;
   }
   return 0;

@@ -94,6 +94,7 @@ struct SimulationSpec {
 
   NeighborMethod neighbor = NeighborMethod::Cells;  // [neighbor] method
   double skin = 0.3;                            // [neighbor] skin (verlet only)
+  std::array<int, 3> parallel_grid{0, 0, 0};    // [parallel] grid: MPI ranks along x, y, z (0 = choose)
 
   std::uint64_t thermo_every = 100;             // [output] thermo_every
   std::uint64_t checkpoint_every = 0;           // [output] checkpoint_every (0 = only at the end)

@@ -53,14 +53,14 @@ ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
 ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
 
 void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
-                           double dt, bool with_sums, PairSums& sums) {
+                           double dt, bool with_sums, PairSums& sums, Halo* halo) {
   auto dispatch = [&]<bool kSums>() {
     switch (weight_kind_) {
-      case WeightKind::Two: return compute_impl<kSums, WeightKind::Two>(p, box, list, step, dt, sums);
-      case WeightKind::One: return compute_impl<kSums, WeightKind::One>(p, box, list, step, dt, sums);
-      case WeightKind::Half: return compute_impl<kSums, WeightKind::Half>(p, box, list, step, dt, sums);
-      case WeightKind::Quarter: return compute_impl<kSums, WeightKind::Quarter>(p, box, list, step, dt, sums);
-      case WeightKind::General: return compute_impl<kSums, WeightKind::General>(p, box, list, step, dt, sums);
+      case WeightKind::Two: return compute_impl<kSums, WeightKind::Two>(p, box, list, step, dt, sums, halo);
+      case WeightKind::One: return compute_impl<kSums, WeightKind::One>(p, box, list, step, dt, sums, halo);
+      case WeightKind::Half: return compute_impl<kSums, WeightKind::Half>(p, box, list, step, dt, sums, halo);
+      case WeightKind::Quarter: return compute_impl<kSums, WeightKind::Quarter>(p, box, list, step, dt, sums, halo);
+      case WeightKind::General: return compute_impl<kSums, WeightKind::General>(p, box, list, step, dt, sums, halo);
     }
   };
   if (with_sums)
@@ -71,8 +71,11 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
 
 template <bool kSums, WeightKind W>
 void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
-                                double dt, PairSums& sums) {
+                                double dt, PairSums& sums, Halo* halo) {
   const std::size_t n = p.n_local;
+  const std::size_t ntot = p.size();  // local particles, then ghosts
+  const bool ghosts = p.n_ghost > 0;
+  if (ghosts) fixed_.resize(3 * ntot);
   const int nthreads = omp_get_max_threads();
   buffers_.resize(static_cast<std::size_t>(nthreads));
   while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());
@@ -94,7 +97,7 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   {
     const int t = omp_get_thread_num();
     std::vector<std::int64_t>& bufv = buffers_[static_cast<std::size_t>(t)];
-    bufv.assign(3 * n, 0);
+    bufv.assign(3 * ntot, 0);
     std::int64_t* buf = bufv.data();
     PairBatch& b = *batches_[static_cast<std::size_t>(t)];
     b.m = 0;
@@ -204,7 +207,7 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       // q-th particle of the cell then scans candidates q+1 onwards in one loop.
       const CellGrid& grid = list.grid();
       const std::uint32_t* start = list.cell_start().data();
-      const std::size_t ncells = grid.num_cells();
+      const std::size_t ncells = grid.num_owned_cells();  // ghost cells are only partners
 #pragma omp for schedule(static)
       for (std::size_t c = 0; c < ncells; ++c) {
         if (start[c] == start[c + 1]) continue;
@@ -251,19 +254,42 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
     }
 #pragma omp barrier
     // Reduce the per-thread buffers; integer addition makes the result thread-count independent.
+    if (!ghosts) {
 #pragma omp for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      std::int64_t sx = 0, sy = 0, sz = 0;
-      for (int u = 0; u < nthreads; ++u) {
-        const std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
-        sx += bu[3 * i];
-        sy += bu[3 * i + 1];
-        sz += bu[3 * i + 2];
+      for (std::size_t i = 0; i < n; ++i) {
+        std::int64_t sx = 0, sy = 0, sz = 0;
+        for (int u = 0; u < nthreads; ++u) {
+          const std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
+          sx += bu[3 * i];
+          sy += bu[3 * i + 1];
+          sz += bu[3 * i + 2];
+        }
+        p.fx[i] = static_cast<double>(sx) * kForceUnscale;
+        p.fy[i] = static_cast<double>(sy) * kForceUnscale;
+        p.fz[i] = static_cast<double>(sz) * kForceUnscale;
       }
-      p.fx[i] = static_cast<double>(sx) * kForceUnscale;
-      p.fy[i] = static_cast<double>(sy) * kForceUnscale;
-      p.fz[i] = static_cast<double>(sz) * kForceUnscale;
+    } else {
+      // With ghosts, the integer totals of ghosts go back to their owners before the conversion.
+#pragma omp for schedule(static)
+      for (std::size_t k = 0; k < 3 * ntot; ++k) {
+        std::int64_t s = 0;
+        for (int u = 0; u < nthreads; ++u) s += buffers_[static_cast<std::size_t>(u)][k];
+        fixed_[k] = s;
+      }
     }
+  }
+  if (ghosts) {
+    if (halo != nullptr) halo->reverse_forces(fixed_.data(), p);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      p.fx[i] = static_cast<double>(fixed_[3 * i]) * kForceUnscale;
+      p.fy[i] = static_cast<double>(fixed_[3 * i + 1]) * kForceUnscale;
+      p.fz[i] = static_cast<double>(fixed_[3 * i + 2]) * kForceUnscale;
+    }
+  }
+  if constexpr (kSums) {
+    // Each pair was evaluated on exactly one rank: the integer totals add up to the single-rank ones.
+    if (halo != nullptr) halo->comm().sum(std::span<std::int64_t>(total, 9));
   }
   if constexpr (kSums) {
     for (int q = 0; q < 6; ++q) sums.virial[static_cast<std::size_t>(q)] = static_cast<double>(total[q]) * kVirialUnscale;

@@ -10,6 +10,7 @@
 #include "core/particle_data.hpp"
 #include "core/philox.hpp"
 #include "neighbor/neighbor_list.hpp"
+#include "parallel/halo.hpp"
 #include "physics/dpd_pair.hpp"
 #include "physics/pair_table.hpp"
 
@@ -47,22 +48,24 @@ class ForceCompute {
   ForceCompute& operator=(ForceCompute&&) noexcept;
 
   // Overwrites p.f{x,y,z} of local particles with the pair forces at step `step` (the random force
-  // is keyed on it). With `with_sums`, also fills `sums`.
+  // is keyed on it). With `with_sums`, also fills `sums` (summed over all ranks of `halo`). Forces on
+  // ghosts are sent back to their owners through `halo`.
   void compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step, double dt,
-               bool with_sums, PairSums& sums);
+               bool with_sums, PairSums& sums, Halo* halo = nullptr);
 
   const PairTable& table() const { return table_; }
 
  private:
   template <bool kSums, WeightKind W>
   void compute_impl(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step, double dt,
-                    PairSums& sums);
+                    PairSums& sums, Halo* halo);
 
   PairTable table_;
   std::vector<DpdPairParamsT<PairReal>> params_real_;  // table_.params in the pair arithmetic type
   NoiseSettings noise_;
   WeightKind weight_kind_ = WeightKind::General;  // shared by all pairs, else General
   std::vector<std::vector<std::int64_t>> buffers_;  // per thread: fx, fy, fz interleaved
+  std::vector<std::int64_t> fixed_;                 // summed over threads, when there are ghosts
   std::vector<std::unique_ptr<PairBatch>> batches_;  // per thread
 };
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "analysis/kinetic_theory.hpp"
 #include "analysis/msd.hpp"
@@ -106,11 +107,15 @@ class Observers {
     return !opt_.out_dir.empty() && step % sim_.spec().thermo_every == 0;
   }
   bool wants_sums(std::uint64_t step) const { return thermo_due(step); }
+  // Collective under MPI: every rank calls it at every step; files are written by the root from the
+  // particles gathered in id order, so they do not depend on the rank count.
   void observe(std::uint64_t step, const PairSums& sums);
   std::string finish();
   void progress(std::uint64_t step) {
     if (progress_) progress_->update(step);
   }
+  // The whole system in increasing id on the root (collective).
+  ParticleData gather() const { return gather_by_id(sim_.particles(), comm(), sim_.total_particles()); }
   // Running averages (thermo means, profile, RDF, MSD) for checkpoints. Each part is a length-prefixed
   // section, so a restart with an analysis switched off skips it and one switched on starts afresh.
   void save(ByteWriter& w) const;
@@ -118,7 +123,8 @@ class Observers {
 
  private:
   std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
-  void write_frame(std::uint64_t step);
+  const Comm& comm() const { return sim_.halo().comm(); }
+  void write_frame(std::uint64_t step, const ParticleData& all);
 
   const Simulation& sim_;
   RunOptions opt_;
@@ -136,39 +142,45 @@ class Observers {
 
 Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarted) : sim_(sim), opt_(opt) {
   const SimulationSpec& s = sim.spec();
-  if (opt_.progress) progress_.emplace(sim.current_step(), sim.final_step());
+  if (opt_.progress && comm().root()) progress_.emplace(sim.current_step(), sim.final_step());
   if (opt_.out_dir.empty()) return;
-  std::filesystem::create_directories(opt_.out_dir);
-  const auto thermo_path = out("thermo.csv");
-  if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, sim.current_step());
-  const bool append = restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
-  thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
-  if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
-  if (!append) thermo_ << thermo_csv_header() << '\n';
-  const Box& box = sim.box();
-  const double len[3] = {box.len.x, box.len.y, box.len.z};
+  double mass = 0;
   if (s.poiseuille.enabled) {
-    double mass = 0;
-    for (std::size_t i = 0; i < sim.particles().n_local; ++i)
-      mass += s.species[static_cast<std::size_t>(sim.particles().species[i])].mass;
-    profile_.emplace(static_cast<std::size_t>(s.poiseuille.bins), s.poiseuille.flow_axis, s.poiseuille.gradient_axis,
-                     len[s.poiseuille.gradient_axis], static_cast<std::size_t>(s.poiseuille.blocks),
-                     s.poiseuille.force, mass / box.volume());
+    // The fluid's mass density, summed in id order so that it is the same on any rank count.
+    const ParticleData all = gather();
+    for (std::size_t i = 0; i < all.n_local; ++i) mass += s.species[static_cast<std::size_t>(all.species[i])].mass;
   }
-  if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
-  if (s.msd.enabled) msd_.emplace();
-  if (s.dump.enabled) {
-    const bool gsd = s.dump.format == DumpFormat::Gsd;
-    const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
-    if (gsd) {
-      // Frames after the checkpoint's step are dropped from the index, as trim_lammps_dump does for text.
-      gsd_.emplace(out(name), s.dump.fields, restarted,
-                   restarted ? std::optional<std::uint64_t>(sim.current_step()) : std::nullopt);
-    } else {
-      if (restarted && std::filesystem::exists(out(name))) trim_lammps_dump(out(name), sim.current_step());
-      lammps_.emplace(out(name), s.dump.fields, restarted);
+  // Files belong to the root; an error there stops every rank.
+  comm().on_root([&] {
+    std::filesystem::create_directories(opt_.out_dir);
+    const auto thermo_path = out("thermo.csv");
+    if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, sim.current_step());
+    const bool append =
+        restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
+    thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
+    if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
+    if (!append) thermo_ << thermo_csv_header() << '\n';
+    const Box& box = sim.box();
+    const double len[3] = {box.len.x, box.len.y, box.len.z};
+    if (s.poiseuille.enabled)
+      profile_.emplace(static_cast<std::size_t>(s.poiseuille.bins), s.poiseuille.flow_axis, s.poiseuille.gradient_axis,
+                       len[s.poiseuille.gradient_axis], static_cast<std::size_t>(s.poiseuille.blocks),
+                       s.poiseuille.force, mass / box.volume());
+    if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
+    if (s.msd.enabled) msd_.emplace();
+    if (s.dump.enabled) {
+      const bool gsd = s.dump.format == DumpFormat::Gsd;
+      const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
+      if (gsd) {
+        // Frames after the checkpoint's step are dropped from the index, as trim_lammps_dump does for text.
+        gsd_.emplace(out(name), s.dump.fields, restarted,
+                     restarted ? std::optional<std::uint64_t>(sim.current_step()) : std::nullopt);
+      } else {
+        if (restarted && std::filesystem::exists(out(name))) trim_lammps_dump(out(name), sim.current_step());
+        lammps_.emplace(out(name), s.dump.fields, restarted);
+      }
     }
-  }
+  });
 }
 
 namespace {
@@ -207,8 +219,7 @@ void Observers::load(ByteReader& r, const std::string& context) {
   load_section(r, msd_, context);
 }
 
-void Observers::write_frame(std::uint64_t step) {
-  const ParticleData& p = sim_.particles();
+void Observers::write_frame(std::uint64_t step, const ParticleData& p) {
   const SimulationSpec& s = sim_.spec();
   std::vector<std::string> names;
   for (const auto& sp : s.species) names.push_back(sp.name);
@@ -240,27 +251,37 @@ void Observers::write_frame(std::uint64_t step) {
 
 void Observers::observe(std::uint64_t step, const PairSums& sums) {
   const SimulationSpec& s = sim_.spec();
-  const ParticleData& p = sim_.particles();
-  const std::size_t n = p.n_local;
   if (thermo_due(step)) {
-    ThermoState t = compute_thermo(p, sim_.species_mass(), sim_.box(), sums, sim_.flow_axis());
+    ThermoState t = compute_thermo(sim_.particles(), sim_.species_mass(), sim_.box(), sums, sim_.flow_axis(), comm());
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = sim_.neighbor_builds();
-    thermo_ << thermo_csv_row(t) << '\n';
-    thermo_.flush();
+    if (comm().root()) {
+      thermo_ << thermo_csv_row(t) << '\n';
+      thermo_.flush();
+    }
     temperature_sum_ += t.temperature_transverse;
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
   }
-  if (profile_ && step > s.poiseuille.start && step % s.poiseuille.every == 0) {
+  // The analyses see the whole system in id order (gathered on the root under MPI), so their sums are
+  // taken in the same order whatever the rank count or storage order.
+  const bool files = !opt_.out_dir.empty();
+  const bool profile_due = files && s.poiseuille.enabled && step > s.poiseuille.start && step % s.poiseuille.every == 0;
+  const bool rdf_due = files && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
+  const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
+  const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
+  if (!(profile_due || rdf_due || msd_due || dump_due)) return;
+  const ParticleData p = gather();
+  if (!comm().root()) return;
+  const std::size_t n = p.n_local;
+  if (profile_due) {
     const auto& grad = s.poiseuille.gradient_axis == 0 ? p.x : (s.poiseuille.gradient_axis == 1 ? p.y : p.z);
     const auto& flow = s.poiseuille.flow_axis == 0 ? p.vx : (s.poiseuille.flow_axis == 1 ? p.vy : p.vz);
     profile_->sample(grad.data(), flow.data(), n);
   }
-  if (rdf_ && step >= s.rdf.start && step % s.rdf.every == 0)
-    rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z});
-  if (msd_ && step >= s.msd.start && step % s.msd.every == 0) {
+  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z});
+  if (msd_due) {
     scratch_a_.resize(n);
     scratch_b_.resize(n);
     scratch_c_.resize(n);
@@ -273,19 +294,20 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
     msd_->sample(step, static_cast<double>(step) * s.dt, p.id.data(), scratch_a_.data(), scratch_b_.data(),
                  scratch_c_.data(), n);
   }
-  if (s.dump.enabled && !opt_.out_dir.empty() && step % s.dump.every == 0) write_frame(step);
+  if (dump_due) write_frame(step, p);
 }
 
 std::string Observers::finish() {
   const SimulationSpec& s = sim_.spec();
   std::string summary;
+  if (!comm().root()) return summary;
   if (thermo_samples_ > 0)
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
                            s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
   if (profile_) {
-    const double rho = static_cast<double>(sim_.particles().n_local) / sim_.box().volume();
+    const double rho = static_cast<double>(sim_.total_particles()) / sim_.box().volume();
     const PairSpec& pp = s.pair(0, 0);
     const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
     if (profile_->samples() < 2) {
@@ -344,16 +366,26 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   }
   final_step_ = options_.steps ? *options_.steps : spec_.steps;
   const bool restarted = !options_.restart.empty();
-  if (restarted) {
+  // Every rank builds (or reads) the whole system, then keeps the particles of its own cells.
+  if (restarted)
     load_checkpoint(options_.restart);
-  } else {
+  else
     make_initial_state(spec_, box_, p_);
-    nlist_.build(p_, box_);
-    compute_forces(true);
-  }
+  n_total_ = p_.n_local;
   if (box_.len.x < 2 * forces_.table().max_cutoff || box_.len.y < 2 * forces_.table().max_cutoff ||
       box_.len.z < 2 * forces_.table().max_cutoff)
     throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
+  const Comm comm = Comm::world();
+  const double range = nlist_.settings().cutoff + nlist_.settings().skin;
+  const Decomposition dec =
+      Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
+                          {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range);
+  halo_ = Halo(comm, dec);
+  halo_.keep_owned(p_, CellGrid(box_, range));
+  if (!restarted) {
+    nlist_.build(p_, box_, &halo_);
+    compute_forces(true);
+  }
   observers_ = std::make_unique<Observers>(*this, options_, restarted);
   if (!pending_observer_state_.empty()) {
     ByteReader r(pending_observer_state_, options_.restart.string());
@@ -366,7 +398,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
 Simulation::~Simulation() = default;
 
 void Simulation::compute_forces(bool with_sums) {
-  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_);
+  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_);
   sums_valid_ = with_sums;
   // External forces after the pair forces, in a fixed per-particle order.
   const std::size_t n = p_.n_local;
@@ -396,7 +428,7 @@ void Simulation::compute_forces(bool with_sums) {
 void Simulation::step() {
   // 1. First part of the integrator: positions and the velocity the forces will see.
   std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
-  // 2. Periodic wrap (the exchange point: ghost exchange and migration go here under MPI).
+  // 2. Periodic wrap of the local particles.
   const std::size_t n = p_.n_local;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -405,9 +437,13 @@ void Simulation::step() {
     wrap_coordinate(p_.z[i], p_.iz[i], box_.len.z);
   }
   ++step_;
-  // 3. Neighbour list, rebuilt only when some particle has moved half the skin.
-  if (nlist_.needs_rebuild(p_, box_)) nlist_.build(p_, box_);
-  // 4. Forces at the new positions (pair forces, then external forces).
+  // 3. Neighbour list, rebuilt only when some particle has moved half the skin. Under MPI a rebuild
+  //    migrates particles to their owners and rebuilds the ghosts; otherwise the ghosts are refreshed.
+  if (nlist_.needs_rebuild(p_, box_, &halo_))
+    nlist_.build(p_, box_, &halo_);
+  else
+    halo_.update_ghosts(p_);
+  // 4. Forces at the new positions (pair forces, ghost forces back to their owners, external forces).
   compute_forces(observers_ && observers_->wants_sums(step_));
   // 5. Second part of the integrator.
   std::visit([&](const auto& integ) { integ.post_force(p_, inv_mass_, spec_.dt); }, integrator_);
@@ -434,19 +470,33 @@ void Simulation::check_health() const {
 #pragma omp parallel for reduction(min : bad) schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     if (unhealthy(i)) bad = std::min(bad, i);
-  if (bad == n) return;
-  // Report the smallest id among offenders so the message does not depend on storage order.
-  std::uint32_t id = p_.id[bad];
-  for (std::size_t i = bad + 1; i < n; ++i)
-    if (p_.id[i] < id && unhealthy(i)) {
-      id = p_.id[i];
-      bad = i;
-    }
-  const double speed = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
-  throw BlowUpError(step_, id,
+  // Report the smallest id among offenders (over all ranks) so the message does not depend on storage
+  // order or rank count.
+  std::uint64_t id = std::numeric_limits<std::uint64_t>::max();
+  if (bad != n) {
+    id = p_.id[bad];
+    for (std::size_t i = bad + 1; i < n; ++i)
+      if (p_.id[i] < id && unhealthy(i)) {
+        id = p_.id[i];
+        bad = i;
+      }
+  }
+  const Comm& comm = halo_.comm();
+  if (comm.distributed()) id = comm.min(id);
+  if (id == std::numeric_limits<std::uint64_t>::max()) return;
+  // The owner contributes the particle's state; the others add zeros.
+  double state[4] = {0, 0, 0, 0};
+  if (bad != n && p_.id[bad] == id) {
+    state[0] = p_.x[bad];
+    state[1] = p_.y[bad];
+    state[2] = p_.z[bad];
+    state[3] = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
+  }
+  comm.sum(std::span<double>(state, 4));
+  throw BlowUpError(step_, static_cast<std::uint32_t>(id),
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
                                 "(run.max_velocity = {}); reduce integrator.dt or check the forces",
-                                step_, id, p_.x[bad], p_.y[bad], p_.z[bad], speed, spec_.max_velocity));
+                                step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity));
 }
 
 ThermoState Simulation::thermo() {
@@ -454,7 +504,7 @@ ThermoState Simulation::thermo() {
     // Recompute the pair sums at the current step; the forces come out bit-identical.
     compute_forces(true);
   }
-  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis());
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm());
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
   t.neighbor_builds = neighbor_builds();
@@ -474,25 +524,31 @@ constexpr std::uint64_t kStateTag = 0x4d45534f44504433ull;  // "MESODPD3": paylo
 }
 
 void Simulation::write_checkpoint(const std::filesystem::path& file) const {
-  ByteWriter w;
-  w.put<std::uint64_t>(kStateTag);
-  w.put<std::uint64_t>(step_);
-  w.put<std::uint64_t>(neighbor_builds());  // so thermo.csv's neighbor_builds column continues across a restart
-  w.put<std::uint64_t>(spec_.seed);
-  w.put<double>(spec_.dt);
-  w.put<std::uint64_t>(spec_.species.size());
-  w.put<double>(box_.len.x);
-  w.put<double>(box_.len.y);
-  w.put<double>(box_.len.z);
-  const std::size_t n = p_.n_local;
-  auto first_n = [n](const auto& v) { return std::span(v.data(), n); };
-  w.put_vector(first_n(p_.id));
-  w.put_vector(first_n(p_.species));
-  for (const auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) w.put_vector(first_n(*v));
-  for (const auto* v : {&p_.ix, &p_.iy, &p_.iz}) w.put_vector(first_n(*v));
-  w.put<std::uint8_t>(observers_ ? 1 : 0);
-  if (observers_) observers_->save(w);
-  write_checkpoint_file(file, w.bytes());
+  // The whole system in id order, written by the root: the file does not depend on the rank count,
+  // and a run restarts from it on any number of ranks.
+  const ParticleData all = gather_by_id(p_, halo_.comm(), n_total_);
+  halo_.comm().on_root([&] {
+    ByteWriter w;
+    w.put<std::uint64_t>(kStateTag);
+    w.put<std::uint64_t>(step_);
+    w.put<std::uint64_t>(neighbor_builds());  // so thermo.csv's neighbor_builds column continues across a restart
+    w.put<std::uint64_t>(spec_.seed);
+    w.put<double>(spec_.dt);
+    w.put<std::uint64_t>(spec_.species.size());
+    w.put<double>(box_.len.x);
+    w.put<double>(box_.len.y);
+    w.put<double>(box_.len.z);
+    const std::size_t n = all.n_local;
+    auto first_n = [n](const auto& v) { return std::span(v.data(), n); };
+    w.put_vector(first_n(all.id));
+    w.put_vector(first_n(all.species));
+    for (const auto* v : {&all.x, &all.y, &all.z, &all.vx, &all.vy, &all.vz, &all.fx, &all.fy, &all.fz})
+      w.put_vector(first_n(*v));
+    for (const auto* v : {&all.ix, &all.iy, &all.iz}) w.put_vector(first_n(*v));
+    w.put<std::uint8_t>(observers_ ? 1 : 0);
+    if (observers_) observers_->save(w);
+    write_checkpoint_file(file, w.bytes());
+  });
 }
 
 void Simulation::load_checkpoint(const std::filesystem::path& file) {

@@ -17,6 +17,7 @@
 #include "integrate/integrator.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
+#include "parallel/halo.hpp"
 
 namespace mesodpd {
 
@@ -58,8 +59,13 @@ class Simulation {
   void step();
 
   const SimulationSpec& spec() const { return spec_; }
+  // This rank's particles: locals in [0, n_local), then ghosts.
   const ParticleData& particles() const { return p_; }
   ParticleData& particles() { return p_; }
+  // Particles in the whole system (all ranks).
+  std::uint64_t total_particles() const { return n_total_; }
+  // The decomposition, the communicator and the ghost exchange (inactive on one rank).
+  const Halo& halo() const { return halo_; }
   const Box& box() const { return box_; }
   std::uint64_t current_step() const { return step_; }
   const std::vector<double>& species_mass() const { return mass_; }
@@ -84,11 +90,13 @@ class Simulation {
   Box box_;
   ParticleData p_;
   NeighborList nlist_;
+  Halo halo_;
   ForceCompute forces_;
   IntegratorVariant integrator_;
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
   std::uint64_t final_step_ = 0;
+  std::uint64_t n_total_ = 0;
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
   PairSums sums_;

@@ -15,7 +15,7 @@ double unfixed128(Int128 q) { return static_cast<double>(q) / kKineticScale; }
 }  // namespace
 
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums, int flow_axis) {
+                           const PairSums& sums, int flow_axis, const Comm& comm) {
   ThermoState s;
   Int128 kq[6] = {0, 0, 0, 0, 0, 0}, mq[3] = {0, 0, 0};
   for (std::size_t i = 0; i < p.n_local; ++i) {
@@ -31,10 +31,14 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
     mq[1] += fixed128(m * vy);
     mq[2] += fixed128(m * vz);
   }
+  Int128 all[10] = {kq[0], kq[1], kq[2], kq[3], kq[4], kq[5], mq[0], mq[1], mq[2], static_cast<Int128>(p.n_local)};
+  comm.sum(std::span<Int128>(all, 10));
+  for (int q = 0; q < 6; ++q) kq[q] = all[q];
+  for (int q = 0; q < 3; ++q) mq[q] = all[6 + q];
   std::array<double, 6> k{};
   for (std::size_t q = 0; q < 6; ++q) k[q] = unfixed128(kq[q]);
   const std::array<double, 3> mom{unfixed128(mq[0]), unfixed128(mq[1]), unfixed128(mq[2])};
-  const double n = static_cast<double>(p.n_local);
+  const double n = static_cast<double>(all[9]);
   const double dof = n > 1 ? 3.0 * n - 3.0 : 3.0;
   const double v = box.volume();
   s.kinetic_energy = 0.5 * (k[0] + k[1] + k[2]);

@@ -8,6 +8,7 @@
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
 #include "engine/force_compute.hpp"
+#include "parallel/comm.hpp"
 
 namespace mesodpd {
 
@@ -27,9 +28,10 @@ struct ThermoState {
   std::uint64_t neighbor_builds = 0;
 };
 
-// flow_axis: 0, 1, 2 for a driven flow along x, y, z (reverse Poiseuille), -1 for none.
+// flow_axis: 0, 1, 2 for a driven flow along x, y, z (reverse Poiseuille), -1 for none. The kinetic
+// sums run over the local particles of every rank of `comm` (exact integer sums); `sums` are global.
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums, int flow_axis = -1);
+                           const PairSums& sums, int flow_axis = -1, const Comm& comm = Comm::serial());
 
 // The header of thermo.csv and one row, at full precision.
 std::string thermo_csv_header();

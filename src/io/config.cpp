@@ -547,6 +547,17 @@ void read_neighbor(const Section& top, SimulationSpec& spec) {
   spec.skin = real_or(s, "skin", 0.3, Range{0.0, 2.0, true, true});
 }
 
+void read_parallel(const Section& top, SimulationSpec& spec) {
+  const Section s = top.table_or_empty("parallel", {"grid"});
+  if (const auto g = s.vec3("grid", Range{0.0, 65536.0, true, true})) {
+    for (std::size_t d = 0; d < 3; ++d) {
+      if ((*g)[d] != static_cast<double>(static_cast<int>((*g)[d])))
+        s.bad("grid", fmt::format("element {} is {}, not a whole number of ranks (0 = choose)", d, (*g)[d]));
+      spec.parallel_grid[d] = static_cast<int>((*g)[d]);
+    }
+  }
+}
+
 void read_output(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("output", {"thermo_every", "checkpoint_every", "progress", "dump"});
   spec.thermo_every = uint_or(s, "thermo_every", 100, 1);
@@ -666,7 +677,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
 
   const Section top(root, "",
                     {"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
-                     "poiseuille", "analysis"},
+                     "poiseuille", "analysis", "parallel"},
                     source_name);
   SimulationSpec spec;
   spec.source = source_name;
@@ -688,6 +699,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   read_integrator(top, spec);
   read_run(top, spec);
   read_neighbor(top, spec);
+  read_parallel(top, spec);
   read_output(top, spec);
   read_poiseuille(top, spec);
   read_analysis(top, spec);

@@ -1,4 +1,4 @@
-// Cell grid geometry and periodic half stencils.
+// Cell grid geometry, the numbering of owned and ghost cells, and periodic half stencils.
 #include "neighbor/cell_grid.hpp"
 
 #include <algorithm>
@@ -6,15 +6,45 @@
 
 namespace mesodpd {
 
-CellGrid::CellGrid(const Box& box, double min_size) {
+std::array<int, 3> CellGrid::dims_for(const Box& box, double min_size) {
   const double len[3] = {box.len.x, box.len.y, box.len.z};
-  for (int d = 0; d < 3; ++d) {
-    n_[d] = std::max(1, static_cast<int>(std::floor(len[d] / min_size)));
+  std::array<int, 3> n{};
+  for (std::size_t d = 0; d < 3; ++d) n[d] = std::max(1, static_cast<int>(std::floor(len[d] / min_size)));
+  return n;
+}
+
+CellGrid::CellGrid(const Box& box, double min_size, const CellDomain& domain) {
+  n_ = dims_for(box, min_size);
+  const double len[3] = {box.len.x, box.len.y, box.len.z};
+  bool any_ghost = false;
+  for (std::size_t d = 0; d < 3; ++d) {
     inv_size_[d] = n_[d] / len[d];
+    const bool split = domain.count[d] > 0 && domain.count[d] < n_[d];
+    lo_[d] = split ? domain.lo[d] : 0;
+    own_[d] = split ? domain.count[d] : n_[d];
+    ghost_[d] = split && domain.ghost[d] ? 1 : 0;
+    any_ghost = any_ghost || ghost_[d] != 0;
   }
-  if (has_half_stencil()) {
+  num_owned_ = static_cast<std::size_t>(own_[0]) * static_cast<std::size_t>(own_[1]) * static_cast<std::size_t>(own_[2]);
+  num_cells_ = num_owned_;
+  if (any_ghost) {
+    // Ghost cells are numbered after the owned ones, in (z, y, x) order of the extended grid.
+    const int ex = own_[0] + 2 * ghost_[0], ey = own_[1] + 2 * ghost_[1], ez = own_[2] + 2 * ghost_[2];
+    ghost_index_.assign(static_cast<std::size_t>(ex) * static_cast<std::size_t>(ey) * static_cast<std::size_t>(ez), -1);
+    int next = static_cast<int>(num_owned_);
+    for (int z = 0; z < ez; ++z)
+      for (int y = 0; y < ey; ++y)
+        for (int x = 0; x < ex; ++x) {
+          const int lx = x - ghost_[0], ly = y - ghost_[1], lz = z - ghost_[2];
+          const bool owned = lx >= 0 && lx < own_[0] && ly >= 0 && ly < own_[1] && lz >= 0 && lz < own_[2];
+          ghost_index_[static_cast<std::size_t>((z * ey + y) * ex + x)] =
+              owned ? (lz * own_[1] + ly) * own_[0] + lx : next++;
+        }
+    num_cells_ = static_cast<std::size_t>(next);
+  }
+  if (has_half_stencil() && own_[0] >= 3 && own_[1] >= 3 && own_[2] >= 2) {
     // Any interior cell serves as the template; store its runs relative to its index.
-    const int c = (1 * n_[1] + 1) * n_[0] + 1;
+    const int c = (0 * own_[1] + 1) * own_[0] + 1;
     interior_count_ = half_runs_general(c, interior_runs_);
     for (int r = 0; r < interior_count_; ++r) {
       interior_runs_[r].first -= c;
@@ -23,16 +53,16 @@ CellGrid::CellGrid(const Box& box, double min_size) {
   }
 }
 
-int CellGrid::cell_of(double x, double y, double z) const {
-  const int cx = std::min(n_[0] - 1, static_cast<int>(x * inv_size_[0]));
-  const int cy = std::min(n_[1] - 1, static_cast<int>(y * inv_size_[1]));
-  const int cz = std::min(n_[2] - 1, static_cast<int>(z * inv_size_[2]));
-  return (cz * n_[1] + cy) * n_[0] + cx;
+int CellGrid::index_of(int lx, int ly, int lz) const {
+  if (ghost_index_.empty()) return (lz * own_[1] + ly) * own_[0] + lx;
+  const int ex = own_[0] + 2 * ghost_[0], ey = own_[1] + 2 * ghost_[1];
+  return ghost_index_[static_cast<std::size_t>(((lz + ghost_[2]) * ey + (ly + ghost_[1])) * ex + (lx + ghost_[0]))];
 }
 
 int CellGrid::half_runs(int c, CellRun* out) const {
-  const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
-  const bool interior = cx > 0 && cx < n_[0] - 1 && cy > 0 && cy < n_[1] - 1 && cz < n_[2] - 1;
+  const int cx = c % own_[0], cy = (c / own_[0]) % own_[1], cz = c / (own_[0] * own_[1]);
+  const bool interior = interior_count_ > 0 && cx > 0 && cx < own_[0] - 1 && cy > 0 && cy < own_[1] - 1 &&
+                        cz < own_[2] - 1;
   if (!interior) return half_runs_general(c, out);
   for (int r = 0; r < interior_count_; ++r) {
     out[r] = interior_runs_[r];
@@ -43,12 +73,18 @@ int CellGrid::half_runs(int c, CellRun* out) const {
 }
 
 int CellGrid::half_runs_general(int c, CellRun* out) const {
-  const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
+  const int q[3] = {c % own_[0], (c / own_[0]) % own_[1], c / (own_[0] * own_[1])};
   int count = 0;
   out[count++] = CellRun{c, c, 0, 0, 0};
-  // wrap = -1 when a step leaves the grid below (the neighbour sits at the top, one box length too
-  // high), +1 when it leaves above.
-  auto wrap = [](int q, int d, int n) { return static_cast<std::int8_t>(q + d < 0 ? -1 : (q + d >= n ? 1 : 0)); };
+  // Neighbour coordinate along axis d and its wrap: -1 when the step leaves the global grid below (the
+  // neighbour sits at the top, one box length too high), +1 when it leaves above. Axes with ghost
+  // layers do not wrap their local coordinate; the ghost cell holds the periodic image.
+  auto step = [&](int d, int delta, int& local) -> std::int8_t {
+    const int g = lo_[d] + q[d] + delta;
+    const std::int8_t wrap = static_cast<std::int8_t>(g < 0 ? -1 : (g >= n_[d] ? 1 : 0));
+    local = ghost_[d] ? q[d] + delta : (q[d] + delta + own_[d]) % own_[d];
+    return wrap;
+  };
   // Forward half: offsets lexicographically positive in (dz, dy, dx). Enumerated in that order, interior
   // cells come out in increasing storage order, so adjacent ones merge into runs.
   for (int dz = 0; dz <= 1; ++dz)
@@ -56,10 +92,9 @@ int CellGrid::half_runs_general(int c, CellRun* out) const {
       for (int dx = -1; dx <= 1; ++dx) {
         const bool forward = dz > 0 || (dy > 0 || (dy == 0 && dx > 0));
         if (!forward) continue;
-        const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1];
-        const int nz = (cz + dz + n_[2]) % n_[2];
-        const int cell = (nz * n_[1] + ny) * n_[0] + nx;
-        const std::int8_t wx = wrap(cx, dx, n_[0]), wy = wrap(cy, dy, n_[1]), wz = wrap(cz, dz, n_[2]);
+        int nx, ny, nz;
+        const std::int8_t wx = step(0, dx, nx), wy = step(1, dy, ny), wz = step(2, dz, nz);
+        const int cell = index_of(nx, ny, nz);
         CellRun& last = out[count - 1];
         if (cell == last.last + 1 && wx == last.wx && wy == last.wy && wz == last.wz)
           last.last = cell;

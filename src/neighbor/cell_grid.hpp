@@ -1,8 +1,14 @@
 // Regular periodic grid of cells at least `min_size` wide, with neighbour-cell stencils computed on the
 // fly (a stored stencil per cell would cost more memory than the particles at rho = 3).
+//
+// Under domain decomposition a grid covers one rank's block of whole cells plus, along each split axis,
+// one layer of ghost cells on either side. Owned cells are numbered first, (z, y, x) lexicographically,
+// ghost cells after them, so local particles sorted by cell come before ghosts. Along an axis that is not
+// split the grid wraps periodically, exactly as a single-domain grid does.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/box.hpp"
 
@@ -16,38 +22,75 @@ struct CellRun {
   std::int8_t wx, wy, wz;
 };
 
+// The block of global cells one rank owns, and which axes carry ghost layers.
+struct CellDomain {
+  std::array<int, 3> lo{0, 0, 0};
+  std::array<int, 3> count{0, 0, 0};  // 0: the whole axis
+  std::array<bool, 3> ghost{false, false, false};
+};
+
 class CellGrid {
  public:
   // Upper bound on the runs of one half stencil: the own cell plus 13 forward cells.
   static constexpr int kMaxHalfRuns = 14;
 
   CellGrid() = default;
-  CellGrid(const Box& box, double min_size);
+  CellGrid(const Box& box, double min_size, const CellDomain& domain = {});
 
-  int cell_of(double x, double y, double z) const;
-  std::size_t num_cells() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
+  // Global cells along each axis for a box and minimum cell size.
+  static std::array<int, 3> dims_for(const Box& box, double min_size);
+
+  // Owned cell holding a position, or -1 if the position lies outside this grid's owned block.
+  int cell_of(double x, double y, double z) const {
+    const int gx = global_coord(x, 0), gy = global_coord(y, 1), gz = global_coord(z, 2);
+    const int lx = gx - lo_[0], ly = gy - lo_[1], lz = gz - lo_[2];
+    if (static_cast<unsigned>(lx) >= static_cast<unsigned>(own_[0]) ||
+        static_cast<unsigned>(ly) >= static_cast<unsigned>(own_[1]) ||
+        static_cast<unsigned>(lz) >= static_cast<unsigned>(own_[2]))
+      return -1;
+    return (lz * own_[1] + ly) * own_[0] + lx;
+  }
+  // Global cell coordinate along axis d of a wrapped coordinate (NaN maps to 0; the health check
+  // reports it).
+  int global_coord(double v, int d) const {
+    const double s = v * inv_size_[static_cast<std::size_t>(d)];
+    const int c = s >= 0 ? static_cast<int>(s) : 0;  // false for NaN
+    const int n = n_[static_cast<std::size_t>(d)];
+    return c < n ? c : n - 1;
+  }
+  // Cells in storage order: owned first, then ghosts.
+  std::size_t num_cells() const { return num_cells_; }
+  std::size_t num_owned_cells() const { return num_owned_; }
+  // Global cells along x, y, z.
   const std::array<int, 3>& dims() const { return n_; }
+  const std::array<int, 3>& owned_dims() const { return own_; }
+  const std::array<int, 3>& owned_lo() const { return lo_; }
+  // Index of the cell at local coordinates (lx, ly, lz); ghost layers are at -1 and owned_dims()[d].
+  int index_of(int lx, int ly, int lz) const;
 
   // Calls f(cell) once for every distinct cell within one cell of `c` (c included), for periodic grids
-  // of any size: a dimension with fewer than three cells must not visit a cell twice.
+  // of any size: a dimension with fewer than three cells must not visit a cell twice. Single domain only.
   template <class F>
   void for_each_neighbor_cell(int c, F&& f) const;
 
   // With at least three cells in every direction, visiting the own cell (pairs j > i) plus the 13
   // "forward" neighbour cells (half of the 26) finds every pair exactly once.
   bool has_half_stencil() const { return n_[0] >= 3 && n_[1] >= 3 && n_[2] >= 3; }
-  // Writes the own cell followed by the forward cells of `c`, merged into runs of storage-adjacent
-  // cells with a common wrap, into out[0..return). out[0] starts at c itself. Usually 5 runs.
+  // Writes the own cell followed by the forward cells of owned cell `c`, merged into runs of
+  // storage-adjacent cells with a common wrap, into out[0..return). out[0] starts at c itself.
   int half_runs(int c, CellRun* out) const;
 
  private:
   int half_runs_general(int c, CellRun* out) const;
 
-  // Runs of an interior cell (no wrap), relative to the cell's own index: the same for all of them.
+  // Runs of an interior cell (no wrap, all neighbours owned), relative to the cell's own index.
   CellRun interior_runs_[kMaxHalfRuns]{};
   int interior_count_ = 0;
   std::array<int, 3> n_{1, 1, 1};
+  std::array<int, 3> lo_{0, 0, 0}, own_{1, 1, 1}, ghost_{0, 0, 0};
   std::array<double, 3> inv_size_{1, 1, 1};
+  std::size_t num_cells_ = 1, num_owned_ = 1;
+  std::vector<int> ghost_index_;  // extended grid -> cell index, when there are ghost layers
 };
 
 template <class F>
@@ -59,8 +102,7 @@ void CellGrid::for_each_neighbor_cell(int c, F&& f) const {
   for (int dz = lo(n_[2]); dz <= hi(n_[2]); ++dz)
     for (int dy = lo(n_[1]); dy <= hi(n_[1]); ++dy)
       for (int dx = lo(n_[0]); dx <= hi(n_[0]); ++dx) {
-        const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1];
-        const int nz = (cz + dz + n_[2]) % n_[2];
+        const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1], nz = (cz + dz + n_[2]) % n_[2];
         f((nz * n_[1] + ny) * n_[0] + nx);
       }
 }

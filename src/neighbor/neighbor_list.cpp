@@ -4,13 +4,15 @@
 #include <omp.h>
 
 #include <algorithm>
-
+#include <stdexcept>
 
 namespace mesodpd {
 
-bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
-  if (builds_ == 0 || x0_.size() != p.n_local) return true;
+bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box, const Halo* halo) const {
   if (settings_.skin <= 0.0) return true;
+  const bool distributed = halo != nullptr && halo->comm().distributed();
+  if (!distributed && (builds_ == 0 || x0_.size() != p.n_local)) return true;
+  if (builds_ == 0 || x0_.size() != p.n_local) return halo->comm().max(1) != 0;
   const double limit2 = 0.25 * settings_.skin * settings_.skin;
   const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
   const std::size_t n = p.n_local;
@@ -22,33 +24,52 @@ bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
     const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
     moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
   }
+  // Every rank rebuilds together: the ghosts and the migration are collective.
+  if (distributed) return halo->comm().max(static_cast<std::uint64_t>(moved)) != 0;
   return moved != 0;
 }
 
-void NeighborList::build(ParticleData& p, const Box& box) {
+void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
   const double range = settings_.cutoff + settings_.skin;
+  const bool decomposed = halo != nullptr && halo->active();
   if (builds_ == 0 || box.len.x != grid_box_.len.x || box.len.y != grid_box_.len.y ||
       box.len.z != grid_box_.len.z) {
-    grid_ = CellGrid(box, range);
+    grid_ = decomposed ? CellGrid(box, range, halo->cell_domain()) : CellGrid(box, range);
     grid_box_ = box;
+  }
+  if (decomposed) {
+    if (!grid_.has_half_stencil()) throw std::logic_error("NeighborList: a decomposed box needs the half stencil");
+    halo->migrate(p, grid_);
   }
   const std::size_t n = p.n_local;
   const std::size_t nc = grid_.num_cells();
+  const std::size_t owned = grid_.num_owned_cells();
 
-  // Counting sort of particles by cell. Stable, so the order is a function of positions alone.
+  // Counting sort of local particles by cell. Stable, so the order is a function of positions alone.
   cell_index_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) cell_index_[i] = static_cast<std::uint32_t>(grid_.cell_of(p.x[i], p.y[i], p.z[i]));
+  int outside = 0;
+#pragma omp parallel for schedule(static) reduction(| : outside)
+  for (std::size_t i = 0; i < n; ++i) {
+    const int c = grid_.cell_of(p.x[i], p.y[i], p.z[i]);
+    outside |= c < 0 ? 1 : 0;
+    cell_index_[i] = static_cast<std::uint32_t>(c < 0 ? 0 : c);
+  }
+  if (outside) throw std::logic_error("NeighborList: a local particle lies outside this rank's cells");
   cell_start_.assign(nc + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
-  for (std::size_t c = 0; c < nc; ++c) cell_start_[c + 1] += cell_start_[c];
+  for (std::size_t c = 0; c < owned; ++c) cell_start_[c + 1] += cell_start_[c];
   order_.resize(n);
   {
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.begin() + static_cast<std::ptrdiff_t>(owned));
     for (std::size_t i = 0; i < n; ++i) order_[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
   }
-  cells_only_ = settings_.skin <= 0.0 && settings_.sort && grid_.has_half_stencil();
-  if (settings_.sort) p.permute(order_);
+  cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
+  if (settings_.sort || decomposed) p.permute(order_);
+  if (decomposed) {
+    // Ghost cells follow the owned ones in storage and in cell_start_.
+    halo->build_ghosts(p, grid_, ghost_count_);
+    for (std::size_t c = owned; c < nc; ++c) cell_start_[c + 1] = cell_start_[c] + ghost_count_[c - owned];
+  }
   if (cells_only_) {
     // The force loop walks cell_start_ over the sorted storage; no list, order or per-particle cell.
     offsets_.clear();
@@ -56,14 +77,16 @@ void NeighborList::build(ParticleData& p, const Box& box) {
     ++builds_;
     return;
   }
-  if (settings_.sort) {
+  if (settings_.sort || decomposed) {
     // Storage is now in cell order: the k-th particle of the cell order is particle k.
 #pragma omp parallel for schedule(static)
-    for (std::size_t c = 0; c < nc; ++c)
+    for (std::size_t c = 0; c < owned; ++c)
       for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
         order_[k] = k;
         cell_index_[k] = static_cast<std::uint32_t>(c);
       }
+    order_.resize(p.size());  // ghosts, too, sit in cell order
+    for (std::size_t k = n; k < p.size(); ++k) order_[k] = static_cast<std::uint32_t>(k);
   }
   // order_[k] is the storage index of the k-th particle in cell order.
 
@@ -72,7 +95,7 @@ void NeighborList::build(ParticleData& p, const Box& box) {
 
   // Grids with three or more cells per direction use the half stencil (own cell with j > i, plus 13
   // forward cells); smaller grids visit each distinct neighbour cell and keep pairs with j > i.
-  const bool half = grid_.has_half_stencil() && settings_.sort;
+  const bool half = grid_.has_half_stencil() && (settings_.sort || decomposed);
   auto visit = [&](std::size_t i, auto&& emit) {
     const double xi = p.x[i], yi = p.y[i], zi = p.z[i];
     auto scan = [&](std::uint32_t k0, std::uint32_t k1) {

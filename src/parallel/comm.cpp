@@ -1,0 +1,243 @@
+// Comm on MPI (MESODPD_HAVE_MPI) or on one rank.
+#include "parallel/comm.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+#include "mesodpd/spec.hpp"
+
+#ifdef MESODPD_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace mesodpd {
+
+bool built_with_mpi() {
+#ifdef MESODPD_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+Comm Comm::world() {
+  Comm c;
+#ifdef MESODPD_HAVE_MPI
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  if (initialised && !finalised) {
+    c.mpi_ = true;
+    MPI_Comm_rank(MPI_COMM_WORLD, &c.rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &c.size_);
+  }
+#endif
+  return c;
+}
+
+#ifdef MESODPD_HAVE_MPI
+namespace {
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI error in ") + what);
+}
+// MPI counts are int: large messages go in pieces of at most 1 GiB.
+constexpr std::size_t kChunk = std::size_t{1} << 30;
+
+// A user-defined sum for 128-bit integers (MPI has no such type).
+__extension__ void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
+  __extension__ auto* a = static_cast<__int128*>(in);
+  __extension__ auto* b = static_cast<__int128*>(inout);
+  for (int k = 0; k < *len; ++k) b[k] += a[k];
+}
+}  // namespace
+#endif
+
+void Comm::sum(std::span<std::int64_t> v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1 && !v.empty())
+    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
+          "Allreduce");
+#else
+  (void)v;
+#endif
+}
+
+void Comm::sum(std::span<std::uint64_t> v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1 && !v.empty())
+    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD),
+          "Allreduce");
+#else
+  (void)v;
+#endif
+}
+
+void Comm::sum(std::span<double> v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1 && !v.empty())
+    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD),
+          "Allreduce");
+#else
+  (void)v;
+#endif
+}
+
+__extension__ void Comm::sum(std::span<__int128> v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1 && !v.empty()) {
+    MPI_Datatype type;
+    MPI_Op op;
+    check(MPI_Type_contiguous(16, MPI_BYTE, &type), "Type_contiguous");
+    MPI_Type_commit(&type);
+    MPI_Op_create(&sum_int128, 1, &op);
+    const int rc = MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), type, op, MPI_COMM_WORLD);
+    MPI_Op_free(&op);
+    MPI_Type_free(&type);
+    check(rc, "Allreduce");
+  }
+#else
+  (void)v;
+#endif
+}
+
+std::uint64_t Comm::min(std::uint64_t v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD), "Allreduce");
+#endif
+  return v;
+}
+
+std::uint64_t Comm::max(std::uint64_t v) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD), "Allreduce");
+#endif
+  return v;
+}
+
+std::vector<std::byte> Comm::exchange(int dest, int src, int tag, std::span<const std::byte> send) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) {
+    std::uint64_t out_n = send.size(), in_n = 0;
+    check(MPI_Sendrecv(&out_n, 1, MPI_UINT64_T, dest, tag, &in_n, 1, MPI_UINT64_T, src, tag, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+          "Sendrecv");
+    // Receives and sends are posted separately: dest and src differ when a split axis has more than
+    // two ranks, so the two directions have unrelated sizes.
+    std::vector<std::byte> recv(in_n);
+    std::vector<MPI_Request> requests;
+    for (std::size_t off = 0; off < in_n; off += kChunk) {
+      requests.emplace_back();
+      check(MPI_Irecv(recv.data() + off, static_cast<int>(std::min(kChunk, in_n - off)), MPI_BYTE, src, tag,
+                      MPI_COMM_WORLD, &requests.back()),
+            "Irecv");
+    }
+    for (std::size_t off = 0; off < out_n; off += kChunk) {
+      requests.emplace_back();
+      check(MPI_Isend(send.data() + off, static_cast<int>(std::min(kChunk, out_n - off)), MPI_BYTE, dest, tag,
+                      MPI_COMM_WORLD, &requests.back()),
+            "Isend");
+    }
+    check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "Waitall");
+    return recv;
+  }
+#endif
+  (void)dest;
+  (void)src;
+  (void)tag;
+  return std::vector<std::byte>(send.begin(), send.end());
+}
+
+std::vector<std::byte> Comm::gather(std::span<const std::byte> send) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) {
+    // Point-to-point to the root in rank order: no int overflow of MPI_Gatherv displacements.
+    constexpr int kTag = 7001;
+    std::vector<std::byte> all;
+    if (root()) {
+      all.assign(send.begin(), send.end());
+      for (int r = 1; r < size_; ++r) {
+        std::uint64_t n = 0;
+        check(MPI_Recv(&n, 1, MPI_UINT64_T, r, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "Recv");
+        const std::size_t base = all.size();
+        all.resize(base + n);
+        for (std::size_t off = 0; off < n; off += kChunk)
+          check(MPI_Recv(all.data() + base + off, static_cast<int>(std::min(kChunk, n - off)), MPI_BYTE, r, kTag,
+                         MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+                "Recv");
+      }
+    } else {
+      const std::uint64_t n = send.size();
+      check(MPI_Send(&n, 1, MPI_UINT64_T, 0, kTag, MPI_COMM_WORLD), "Send");
+      for (std::size_t off = 0; off < n; off += kChunk)
+        check(MPI_Send(send.data() + off, static_cast<int>(std::min(kChunk, n - off)), MPI_BYTE, 0, kTag,
+                       MPI_COMM_WORLD),
+              "Send");
+    }
+    return all;
+  }
+#endif
+  return std::vector<std::byte>(send.begin(), send.end());
+}
+
+void Comm::broadcast(std::vector<std::byte>& bytes) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) {
+    std::uint64_t n = bytes.size();
+    check(MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "Bcast");
+    bytes.resize(n);
+    for (std::size_t off = 0; off < n; off += kChunk)
+      check(MPI_Bcast(bytes.data() + off, static_cast<int>(std::min(kChunk, n - off)), MPI_BYTE, 0, MPI_COMM_WORLD),
+            "Bcast");
+  }
+#else
+  (void)bytes;
+#endif
+}
+
+void Comm::broadcast(std::string& text) const {
+  if (size_ == 1) return;
+  std::vector<std::byte> b(text.size());
+  std::memcpy(b.data(), text.data(), text.size());
+  broadcast(b);
+  text.assign(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+void Comm::barrier() const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+void Comm::raise_if_any(std::string error) const {
+  broadcast(error);
+  if (!error.empty()) throw ConfigError(error);
+}
+
+void Comm::abort(int code) const {
+#ifdef MESODPD_HAVE_MPI
+  if (mpi_ && size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
+MpiSession::MpiSession(int& argc, char**& argv) {
+#ifdef MESODPD_HAVE_MPI
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+#else
+  (void)argc;
+  (void)argv;
+#endif
+}
+
+MpiSession::~MpiSession() {
+#ifdef MESODPD_HAVE_MPI
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (!finalised) MPI_Finalize();
+#endif
+}
+
+}  // namespace mesodpd

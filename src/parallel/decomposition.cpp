@@ -1,0 +1,116 @@
+// Choice of the rank grid and the cell ranges of each rank.
+#include "parallel/decomposition.hpp"
+
+#include <fmt/format.h>
+
+#include <limits>
+
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+std::string format_grid(const std::array<int, 3>& g) { return fmt::format("[{}, {}, {}]", g[0], g[1], g[2]); }
+
+int Decomposition::rank_at(std::array<int, 3> c) const {
+  for (std::size_t d = 0; d < 3; ++d) c[d] = ((c[d] % grid[d]) + grid[d]) % grid[d];
+  return (c[2] * grid[1] + c[1]) * grid[0] + c[0];
+}
+
+int Decomposition::neighbor(int d, int dir) const {
+  std::array<int, 3> c = coord;
+  c[static_cast<std::size_t>(d)] += dir == 0 ? -1 : 1;
+  return rank_at(c);
+}
+
+int Decomposition::first_cell(int d, int k) const {
+  const auto u = static_cast<std::size_t>(d);
+  return static_cast<int>(static_cast<std::int64_t>(k) * cells[u] / grid[u]);
+}
+
+int Decomposition::owner_of_cell(int d, int g) const {
+  const auto u = static_cast<std::size_t>(d);
+  // first_cell is monotone: the owner is the largest k with first_cell(k) <= g.
+  int k = static_cast<int>((static_cast<std::int64_t>(g) * grid[u]) / cells[u]);
+  while (k + 1 < grid[u] && first_cell(d, k + 1) <= g) ++k;
+  while (k > 0 && first_cell(d, k) > g) --k;
+  return k;
+}
+
+Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells, std::array<double, 3> len,
+                                  std::array<int, 3> requested, double range) {
+  const char* axes = "xyz";
+  for (std::size_t d = 0; d < 3; ++d)
+    if (requested[d] < 0) throw ConfigError(fmt::format("parallel.grid: {} is negative", format_grid(requested)));
+  const bool all_given = requested[0] > 0 && requested[1] > 0 && requested[2] > 0;
+  if (all_given && requested[0] * requested[1] * requested[2] != nranks)
+    throw ConfigError(fmt::format("parallel.grid: {} needs {} ranks but the run has {} (mpirun -np)",
+                                  format_grid(requested), requested[0] * requested[1] * requested[2], nranks));
+  // A dimension split over several ranks needs at least one cell per rank and three cells in all (the
+  // half stencil must not meet the same neighbour cell from both sides).
+  auto refuse = [&](std::size_t d, int p) {
+    return fmt::format(
+        "parallel.grid: {} ranks along {} would make domains {:.4g} wide, thinner than the ghost width {:.4g} "
+        "(largest cutoff + skin) or fewer than 3 cells ({} along {}); use fewer ranks along {} or a larger box",
+        p, axes[d], len[d] / p, range, cells[d], axes[d], axes[d]);
+  };
+  for (std::size_t d = 0; d < 3; ++d)
+    if (requested[d] > 1 && (requested[d] > cells[d] || cells[d] < 3)) throw ConfigError(refuse(d, requested[d]));
+  if (nranks > 1)
+    for (std::size_t d = 0; d < 3; ++d)
+      if (cells[d] < 3)
+        throw ConfigError(fmt::format(
+            "system.box: under MPI every box length must hold at least 3 cells of width {:.4g} (largest cutoff + "
+            "skin); the box is {:.4g} long along {}",
+            range, len[d], axes[d]));
+
+  Decomposition best;
+  double best_cost = std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (int px = 1; px <= nranks; ++px) {
+    if (nranks % px) continue;
+    for (int py = 1; py <= nranks / px; ++py) {
+      if ((nranks / px) % py) continue;
+      const int pz = nranks / (px * py);
+      const std::array<int, 3> g{px, py, pz};
+      bool ok = true;
+      for (std::size_t d = 0; d < 3; ++d) {
+        if (requested[d] > 0 && g[d] != requested[d]) ok = false;
+        if (g[d] > cells[d]) ok = false;
+      }
+      if (!ok) continue;
+      // Ghost volume per rank ~ the faces of split dimensions: sum over split d of 2 * area normal to d.
+      double cost = 0;
+      for (std::size_t d = 0; d < 3; ++d) {
+        if (g[d] == 1) continue;
+        const std::size_t e = (d + 1) % 3, f = (d + 2) % 3;
+        cost += 2.0 * (len[e] / g[e] + 2 * range) * (len[f] / g[f] + 2 * range);
+      }
+      if (cost < best_cost - 1e-9) {
+        best_cost = cost;
+        best.grid = g;
+        found = true;
+      }
+    }
+  }
+  if (!found) {
+    std::size_t worst = 0;
+    for (std::size_t d = 1; d < 3; ++d)
+      if (cells[d] > cells[worst]) worst = d;
+    throw ConfigError(fmt::format(
+        "parallel.grid: cannot split the box ({:.4g} x {:.4g} x {:.4g}, {} x {} x {} cells of width >= {:.4g}) "
+        "over {} ranks{} with every domain at least one cell thick; use fewer ranks",
+        len[0], len[1], len[2], cells[0], cells[1], cells[2], range, nranks,
+        all_given || requested == std::array<int, 3>{0, 0, 0} ? "" : fmt::format(" with grid {}", format_grid(requested))));
+  }
+  best.cells = cells;
+  best.rank = rank;
+  best.coord = {rank % best.grid[0], (rank / best.grid[0]) % best.grid[1], rank / (best.grid[0] * best.grid[1])};
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    best.cell_lo[u] = best.first_cell(d, best.coord[u]);
+    best.cell_count[u] = best.first_cell(d, best.coord[u] + 1) - best.cell_lo[u];
+  }
+  return best;
+}
+
+}  // namespace mesodpd

@@ -1,0 +1,357 @@
+// Migration, ghost construction, ghost refresh and reverse force communication.
+#include "parallel/halo.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+namespace mesodpd {
+
+namespace {
+
+// Everything a particle carries when it changes owner.
+struct MoveRecord {
+  double v[12];  // x y z, vx vy vz, fx fy fz, hx hy hz
+  std::uint32_t id;
+  std::int32_t species, ix, iy, iz;
+};
+
+// What a pair force reads from a ghost, plus its cell coordinates in the receiver's grid frame.
+struct GhostRecord {
+  double x, y, z, vx, vy, vz;
+  std::uint32_t id;
+  std::int32_t species;
+  std::int16_t c[3];
+  std::int16_t pad;
+};
+
+template <class T>
+std::span<const std::byte> as_bytes_of(const std::vector<T>& v) {
+  return std::as_bytes(std::span<const T>(v.data(), v.size()));
+}
+
+template <class T>
+std::vector<T> records_from(const std::vector<std::byte>& bytes) {
+  if (bytes.size() % sizeof(T) != 0) throw std::runtime_error("halo: truncated message");
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+int tag(int base, int d, int dir) { return base + 2 * d + dir; }
+
+MoveRecord pack_particle(const ParticleData& p, std::size_t i) {
+  MoveRecord r{};
+  const std::vector<double>* arrays[12] = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.hx, &p.hy, &p.hz};
+  for (int q = 0; q < 12; ++q) r.v[q] = (*arrays[q])[i];
+  r.id = p.id[i];
+  r.species = p.species[i];
+  r.ix = p.ix[i];
+  r.iy = p.iy[i];
+  r.iz = p.iz[i];
+  return r;
+}
+
+void unpack_particle(const MoveRecord& r, ParticleData& p, std::size_t i) {
+  std::vector<double>* arrays[12] = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.hx, &p.hy, &p.hz};
+  for (int q = 0; q < 12; ++q) (*arrays[q])[i] = r.v[q];
+  p.id[i] = r.id;
+  p.species[i] = r.species;
+  p.ix[i] = r.ix;
+  p.iy[i] = r.iy;
+  p.iz[i] = r.iz;
+}
+
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+const std::vector<double>& coord_array(const ParticleData& p, int d) { return d == 0 ? p.x : (d == 1 ? p.y : p.z); }
+
+}  // namespace
+
+CellDomain Halo::cell_domain() const {
+  CellDomain c;
+  for (std::size_t d = 0; d < 3; ++d) {
+    c.lo[d] = dec_.cell_lo[d];
+    c.count[d] = dec_.grid[d] > 1 ? dec_.cell_count[d] : 0;
+    c.ghost[d] = dec_.grid[d] > 1;
+  }
+  return c;
+}
+
+void Halo::keep_owned(ParticleData& p, const CellGrid& grid) const {
+  if (!active()) return;
+  std::vector<std::uint32_t> keep;
+  for (std::size_t i = 0; i < p.n_local; ++i) {
+    bool mine = true;
+    for (int d = 0; d < 3; ++d)
+      if (dec_.decomposed(d) &&
+          dec_.owner_of_cell(d, grid.global_coord(coord_array(p, d)[i], d)) != dec_.coord[static_cast<std::size_t>(d)])
+        mine = false;
+    if (mine) keep.push_back(static_cast<std::uint32_t>(i));
+  }
+  p.permute(keep);
+}
+
+void Halo::migrate(ParticleData& p, const CellGrid& grid) {
+  if (!active()) return;
+  Stopwatch sw(seconds_);
+  p.resize(p.n_local);
+  p.n_ghost = 0;
+  std::array<std::vector<int>, 3> owner;
+  for (int d = 0; d < 3; ++d)
+    for (int g = 0; g < dec_.cells[static_cast<std::size_t>(d)]; ++g)
+      owner[static_cast<std::size_t>(d)].push_back(dec_.owner_of_cell(d, g));
+  auto owner_along = [&](std::size_t i, int d) {
+    return owner[static_cast<std::size_t>(d)][static_cast<std::size_t>(grid.global_coord(coord_array(p, d)[i], d))];
+  };
+  // A particle moves at most one domain per axis per pass; a second pass (rare: a particle crossed a
+  // whole domain since the last migration) follows only if some rank still holds a foreigner.
+  const int max_passes = 2 + std::max({dec_.grid[0], dec_.grid[1], dec_.grid[2]});
+  for (int pass = 0;; ++pass) {
+    for (int d = 0; d < 3; ++d) {
+      if (!dec_.decomposed(d)) continue;
+      const int np = dec_.grid[static_cast<std::size_t>(d)], me = dec_.coord[static_cast<std::size_t>(d)];
+      std::vector<std::uint32_t> keep;
+      std::vector<MoveRecord> out[2];
+      for (std::size_t i = 0; i < p.n_local; ++i) {
+        const int k = owner_along(i, d);
+        if (k == me) {
+          keep.push_back(static_cast<std::uint32_t>(i));
+          continue;
+        }
+        const int dir = ((k - me + np) % np) <= np / 2 ? 1 : 0;
+        out[dir].push_back(pack_particle(p, i));
+      }
+      std::vector<MoveRecord> in[2];
+      for (int dir = 0; dir < 2; ++dir)
+        in[dir] = records_from<MoveRecord>(
+            comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(100, d, dir), as_bytes_of(out[dir])));
+      if (keep.size() != p.n_local) p.permute(keep);
+      const std::size_t n0 = p.n_local, m = in[0].size() + in[1].size();
+      p.resize(n0 + m);
+      p.n_local = n0 + m;
+      std::size_t i = n0;
+      for (int dir = 0; dir < 2; ++dir)
+        for (const MoveRecord& r : in[dir]) unpack_particle(r, p, i++);
+    }
+    std::uint64_t foreign = 0;
+    for (std::size_t i = 0; i < p.n_local; ++i)
+      for (int d = 0; d < 3; ++d)
+        if (dec_.decomposed(d) && owner_along(i, d) != dec_.coord[static_cast<std::size_t>(d)]) {
+          ++foreign;
+          break;
+        }
+    std::uint64_t counts[1] = {foreign};
+    comm_.sum(std::span<std::uint64_t>(counts));
+    if (counts[0] == 0) return;
+    if (pass + 1 >= max_passes)
+      throw std::runtime_error(fmt::format("halo: {} particles still on the wrong rank after {} migration passes",
+                                           counts[0], max_passes));
+  }
+}
+
+void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::uint32_t>& ghost_count) {
+  const std::size_t n_ghost_cells = grid.num_cells() - grid.num_owned_cells();
+  ghost_count.assign(n_ghost_cells, 0);
+  n_local_ = p.n_local;
+  p.resize(p.n_local);
+  p.n_ghost = 0;
+  slot_.clear();
+  if (!active()) return;
+  Stopwatch sw(seconds_);
+  const auto& lo = grid.owned_lo();
+  const auto& own = grid.owned_dims();
+  // Cell coordinates (in this rank's frame) of locals, then of ghosts in order of arrival.
+  std::vector<std::array<std::int16_t, 3>> coords(n_local_);
+  for (std::size_t i = 0; i < n_local_; ++i)
+    for (int d = 0; d < 3; ++d)
+      coords[i][static_cast<std::size_t>(d)] =
+          static_cast<std::int16_t>(grid.global_coord(coord_array(p, d)[i], d) - lo[static_cast<std::size_t>(d)]);
+  std::vector<GhostRecord> ghosts;
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    for (int dir = 0; dir < 2; ++dir) send_[u][static_cast<std::size_t>(dir)].clear();
+    if (!dec_.decomposed(d)) continue;
+    const std::size_t have = n_local_ + ghosts.size();
+    for (int dir = 0; dir < 2; ++dir) {
+      // The lowest owned layer goes to the neighbour below (its upper ghost layer), the highest above.
+      const int layer = dir == 0 ? 0 : own[u] - 1;
+      auto& list = send_[u][static_cast<std::size_t>(dir)];
+      for (std::size_t a = 0; a < have; ++a)
+        if (coords[a][u] == layer) list.push_back(static_cast<std::uint32_t>(a));
+    }
+    for (int dir = 0; dir < 2; ++dir) {
+      const auto& list = send_[u][static_cast<std::size_t>(dir)];
+      std::vector<GhostRecord> out(list.size());
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::size_t a = list[k];
+        GhostRecord& r = out[k];
+        if (a < n_local_) {
+          r = GhostRecord{p.x[a], p.y[a], p.z[a], p.vx[a], p.vy[a], p.vz[a], p.id[a], p.species[a], {0, 0, 0}, 0};
+        } else {
+          r = ghosts[a - n_local_];
+        }
+        for (std::size_t e = 0; e < 3; ++e) r.c[e] = coords[a][e];
+      }
+      std::vector<GhostRecord> in = records_from<GhostRecord>(
+          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(200, d, dir), as_bytes_of(out)));
+      recv_begin_[u][static_cast<std::size_t>(dir)] = n_local_ + ghosts.size();
+      recv_count_[u][static_cast<std::size_t>(dir)] = in.size();
+      // What the neighbour above sent (its lowest layer) is this rank's upper ghost layer, and vice versa.
+      const std::int16_t layer = static_cast<std::int16_t>(dir == 0 ? own[u] : -1);
+      for (GhostRecord& r : in) {
+        r.c[u] = layer;
+        ghosts.push_back(r);
+        coords.push_back({r.c[0], r.c[1], r.c[2]});
+      }
+    }
+  }
+  // Sort ghosts by cell (counting sort, stable) so that each ghost cell is one contiguous range.
+  const std::size_t ng = ghosts.size();
+  const std::size_t owned = grid.num_owned_cells();
+  std::vector<std::uint32_t> cell(ng);
+  for (std::size_t g = 0; g < ng; ++g) {
+    const auto& c = ghosts[g].c;
+    const int idx = grid.index_of(c[0], c[1], c[2]);
+    if (idx < static_cast<int>(owned)) throw std::runtime_error("halo: a ghost landed in an owned cell");
+    cell[g] = static_cast<std::uint32_t>(static_cast<std::size_t>(idx) - owned);
+    ++ghost_count[cell[g]];
+  }
+  std::vector<std::size_t> fill(n_ghost_cells + 1, 0);
+  for (std::size_t c = 0; c < n_ghost_cells; ++c) fill[c + 1] = fill[c] + ghost_count[c];
+  slot_.resize(ng);
+  for (std::size_t g = 0; g < ng; ++g) slot_[g] = static_cast<std::uint32_t>(n_local_ + fill[cell[g]]++);
+  p.resize(n_local_ + ng);
+  p.n_ghost = ng;
+  for (std::size_t g = 0; g < ng; ++g) {
+    const std::size_t s = slot_[g];
+    const GhostRecord& r = ghosts[g];
+    p.x[s] = r.x;
+    p.y[s] = r.y;
+    p.z[s] = r.z;
+    p.vx[s] = r.vx;
+    p.vy[s] = r.vy;
+    p.vz[s] = r.vz;
+    p.id[s] = r.id;
+    p.species[s] = r.species;
+  }
+  ghosts_built_ += ng;
+}
+
+void Halo::update_ghosts(ParticleData& p) {
+  if (!active()) return;
+  Stopwatch sw(seconds_);
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    if (!dec_.decomposed(d)) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const auto& list = send_[u][static_cast<std::size_t>(dir)];
+      std::vector<double> out(6 * list.size());
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::size_t s = storage_of(list[k]);
+        double* o = &out[6 * k];
+        o[0] = p.x[s];
+        o[1] = p.y[s];
+        o[2] = p.z[s];
+        o[3] = p.vx[s];
+        o[4] = p.vy[s];
+        o[5] = p.vz[s];
+      }
+      const std::vector<double> in = records_from<double>(
+          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(300, d, dir), as_bytes_of(out)));
+      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
+      if (in.size() != 6 * m) throw std::runtime_error("halo: ghost refresh size mismatch");
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t s = storage_of(b + k);
+        const double* v = &in[6 * k];
+        p.x[s] = v[0];
+        p.y[s] = v[1];
+        p.z[s] = v[2];
+        p.vx[s] = v[3];
+        p.vy[s] = v[4];
+        p.vz[s] = v[5];
+      }
+    }
+  }
+}
+
+void Halo::reverse_forces(std::int64_t* f3, const ParticleData& p) {
+  if (!active()) return;
+  Stopwatch sw(seconds_);
+  for (int d = 2; d >= 0; --d) {
+    const auto u = static_cast<std::size_t>(d);
+    if (!dec_.decomposed(d)) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
+      std::vector<std::int64_t> out(3 * m);
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t s = storage_of(b + k);
+        for (int q = 0; q < 3; ++q) out[3 * k + static_cast<std::size_t>(q)] = f3[3 * s + static_cast<std::size_t>(q)];
+      }
+      // Back along the way the ghosts came: to the rank they were received from.
+      const std::vector<std::int64_t> in = records_from<std::int64_t>(
+          comm_.exchange(dec_.neighbor(d, 1 - dir), dec_.neighbor(d, dir), tag(400, d, dir), as_bytes_of(out)));
+      const auto& list = send_[u][static_cast<std::size_t>(dir)];
+      if (in.size() != 3 * list.size()) throw std::runtime_error("halo: reverse force size mismatch");
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::size_t s = storage_of(list[k]);
+        for (int q = 0; q < 3; ++q) f3[3 * s + static_cast<std::size_t>(q)] += in[3 * k + static_cast<std::size_t>(q)];
+      }
+    }
+  }
+  (void)p;  // storage indices come from the last build_ghosts
+}
+
+}  // namespace mesodpd
+
+namespace mesodpd {
+
+ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected) {
+  std::vector<MoveRecord> mine(p.n_local);
+  for (std::size_t i = 0; i < p.n_local; ++i) mine[i] = pack_particle(p, i);
+  const std::vector<std::byte> bytes = comm.gather(as_bytes_of(mine));
+  ParticleData all;
+  comm.on_root([&] {
+    const std::vector<MoveRecord> recs = records_from<MoveRecord>(bytes);
+    const std::size_t n = recs.size();
+    if (n != expected)
+      throw std::runtime_error(fmt::format("particles lost or duplicated: {} expected, {} found on {} rank(s)",
+                                           expected, n, comm.size()));
+    all.resize(n);
+    all.n_local = n;
+    std::uint32_t max_id = 0;
+    for (const MoveRecord& r : recs) max_id = std::max(max_id, r.id);
+    if (n > 0 && max_id == n - 1) {
+      // Ids 0 .. N-1 (the usual case): place each record at its id.
+      std::vector<std::uint8_t> seen(n, 0);
+      for (const MoveRecord& r : recs) {
+        if (seen[r.id]) throw std::runtime_error(fmt::format("particle id {} appears twice", r.id));
+        seen[r.id] = 1;
+        unpack_particle(r, all, r.id);
+      }
+    } else {
+      std::vector<std::uint32_t> order(n);
+      for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>(k);
+      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return recs[a].id < recs[b].id; });
+      for (std::size_t k = 0; k < n; ++k) {
+        if (k > 0 && recs[order[k]].id == recs[order[k - 1]].id)
+          throw std::runtime_error(fmt::format("particle id {} appears twice", recs[order[k]].id));
+        unpack_particle(recs[order[k]], all, k);
+      }
+    }
+  });
+  return all;
+}
+
+}  // namespace mesodpd

@@ -1,0 +1,65 @@
+// Ghost particles and migration for a decomposed box. Exchanges go axis by axis (x, then y, then z) with
+// the two neighbours along each split axis, and later axes forward the ghosts of earlier ones, so edge
+// and corner ghosts need no diagonal messages. Ghosts keep their owner's wrapped coordinates: pair
+// geometry is the minimum image (core/box.hpp), so a pair has the same bits on every rank count.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/particle_data.hpp"
+#include "neighbor/cell_grid.hpp"
+#include "parallel/comm.hpp"
+#include "parallel/decomposition.hpp"
+
+namespace mesodpd {
+
+class Halo {
+ public:
+  Halo() : comm_(Comm::serial()) {}
+  Halo(Comm comm, Decomposition dec) : comm_(comm), dec_(dec) {}
+
+  const Comm& comm() const { return comm_; }
+  const Decomposition& decomposition() const { return dec_; }
+  // True when some axis is split: ghosts and migration are needed.
+  bool active() const { return dec_.any_decomposed(); }
+  // The cell block and ghost layers this rank's grid covers.
+  CellDomain cell_domain() const;
+
+  // Drops the local particles another rank owns (after building or reading the whole system).
+  void keep_owned(ParticleData& p, const CellGrid& grid) const;
+  // Sends every local particle that left this rank's cells to its owner; ghosts are dropped.
+  void migrate(ParticleData& p, const CellGrid& grid);
+  // Appends ghost copies (id, species, position, velocity) sorted by ghost cell, and writes the number
+  // of ghosts of each ghost cell to ghost_count[cell - num_owned_cells()].
+  void build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::uint32_t>& ghost_count);
+  // Refreshes positions and velocities of the ghosts of the last build_ghosts (Verlet lists).
+  void update_ghosts(ParticleData& p);
+  // Adds the fixed-point forces accumulated on ghosts (f3: x, y, z per particle, local and ghost) to
+  // their owners' entries. Integer sums: the result does not depend on the order of arrival.
+  void reverse_forces(std::int64_t* f3, const ParticleData& p);
+
+  // Seconds spent communicating (migration, ghosts, reverse forces) since construction.
+  double seconds() const { return seconds_; }
+  std::uint64_t ghosts_built() const { return ghosts_built_; }
+
+ private:
+  std::size_t storage_of(std::size_t arrival) const {
+    return arrival < n_local_ ? arrival : slot_[arrival - n_local_];
+  }
+
+  Comm comm_;
+  Decomposition dec_;
+  std::size_t n_local_ = 0;                 // locals at the last build_ghosts
+  std::array<std::array<std::vector<std::uint32_t>, 2>, 3> send_;  // arrival indices sent, per axis and side
+  std::array<std::array<std::size_t, 2>, 3> recv_begin_{}, recv_count_{};  // arrival ranges received
+  std::vector<std::uint32_t> slot_;         // ghost arrival order -> storage index
+  double seconds_ = 0;
+  std::uint64_t ghosts_built_ = 0;
+};
+
+// Every rank's local particles, in increasing global id, on the root (empty elsewhere). Collective.
+// Checks that exactly `expected` particles with distinct ids exist (none lost or duplicated).
+ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected);
+
+}  // namespace mesodpd
