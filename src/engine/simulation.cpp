@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstring>
 #include <cmath>
 #include <limits>
 
@@ -460,6 +461,7 @@ void Simulation::step() {
 
 void Simulation::check_health() const {
   const std::size_t n = p_.n_local;
+  if (halo_.comm().distributed()) check_particle_count();
   const double vmax2 = spec_.max_velocity * spec_.max_velocity;
   auto unhealthy = [&](std::size_t i) {
     const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
@@ -497,6 +499,31 @@ void Simulation::check_health() const {
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
                                 "(run.max_velocity = {}); reduce integrator.dt or check the forces",
                                 step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity));
+}
+
+void Simulation::check_particle_count() const {
+  const Comm& comm = halo_.comm();
+  std::uint64_t count[1] = {p_.n_local};
+  comm.sum(std::span<std::uint64_t>(count));
+  if (count[0] == n_total_) return;
+  // Name the smallest id that is missing or held twice.
+  std::vector<std::uint32_t> mine(p_.id.begin(), p_.id.begin() + static_cast<std::ptrdiff_t>(p_.n_local));
+  const std::vector<std::byte> bytes = comm.gather(std::as_bytes(std::span<const std::uint32_t>(mine)));
+  std::uint64_t culprit = std::numeric_limits<std::uint64_t>::max();
+  if (comm.root()) {
+    std::vector<std::uint32_t> ids(bytes.size() / sizeof(std::uint32_t));
+    std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(std::uint32_t));
+    std::sort(ids.begin(), ids.end());
+    for (std::size_t k = 1; k < ids.size() && culprit == std::numeric_limits<std::uint64_t>::max(); ++k)
+      if (ids[k] == ids[k - 1]) culprit = ids[k];
+    for (std::size_t k = 1; k < ids.size() && culprit == std::numeric_limits<std::uint64_t>::max(); ++k)
+      if (ids[k] != ids[k - 1] + 1) culprit = ids[k - 1] + 1;
+  }
+  culprit = comm.min(culprit);
+  throw BlowUpError(step_, static_cast<std::uint32_t>(culprit),
+                    fmt::format("particle lost or duplicated at step {}: {} particles on {} ranks, {} expected (first "
+                                "affected id {}); this is a bug in the domain decomposition, please report it",
+                                step_, count[0], comm.size(), n_total_, culprit));
 }
 
 ThermoState Simulation::thermo() {

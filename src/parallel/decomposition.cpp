@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "mesodpd/spec.hpp"
@@ -55,6 +56,11 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
   };
   for (std::size_t d = 0; d < 3; ++d)
     if (requested[d] > 1 && (requested[d] > cells[d] || cells[d] < 3)) throw ConfigError(refuse(d, requested[d]));
+  const int fixed = std::max(1, requested[0]) * std::max(1, requested[1]) * std::max(1, requested[2]);
+  if (nranks % fixed != 0)
+    throw ConfigError(fmt::format("parallel.grid: {} fixes {} ranks, which does not divide the {} ranks of the run "
+                                  "(mpirun -np); use 0 for the axes to choose",
+                                  format_grid(requested), fixed, nranks));
   if (nranks > 1)
     for (std::size_t d = 0; d < 3; ++d)
       if (cells[d] < 3)
@@ -78,13 +84,14 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
         if (g[d] > cells[d]) ok = false;
       }
       if (!ok) continue;
-      // Ghost volume per rank ~ the faces of split dimensions: sum over split d of 2 * area normal to d.
-      double cost = 0;
+      // Ghost volume per rank: the domain grown by one ghost width on both sides of each split axis,
+      // minus the domain (an unsplit axis needs no ghosts at all).
+      double grown = 1, own = 1;
       for (std::size_t d = 0; d < 3; ++d) {
-        if (g[d] == 1) continue;
-        const std::size_t e = (d + 1) % 3, f = (d + 2) % 3;
-        cost += 2.0 * (len[e] / g[e] + 2 * range) * (len[f] / g[f] + 2 * range);
+        own *= len[d] / g[d];
+        grown *= len[d] / g[d] + (g[d] > 1 ? 2 * range : 0.0);
       }
+      const double cost = grown - own;
       if (cost < best_cost - 1e-9) {
         best_cost = cost;
         best.grid = g;

@@ -330,15 +330,19 @@ ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t
                                            expected, n, comm.size()));
     all.resize(n);
     all.n_local = n;
-    std::uint32_t max_id = 0;
-    for (const MoveRecord& r : recs) max_id = std::max(max_id, r.id);
-    if (n > 0 && max_id == n - 1) {
-      // Ids 0 .. N-1 (the usual case): place each record at its id.
+    std::uint32_t min_id = n > 0 ? recs[0].id : 0, max_id = 0;
+    for (const MoveRecord& r : recs) {
+      min_id = std::min(min_id, r.id);
+      max_id = std::max(max_id, r.id);
+    }
+    if (n > 0 && max_id - min_id == n - 1) {
+      // Consecutive ids (the usual case, 1 .. N): place each record at its id.
       std::vector<std::uint8_t> seen(n, 0);
       for (const MoveRecord& r : recs) {
-        if (seen[r.id]) throw std::runtime_error(fmt::format("particle id {} appears twice", r.id));
-        seen[r.id] = 1;
-        unpack_particle(r, all, r.id);
+        const std::size_t k = r.id - min_id;
+        if (seen[k]) throw std::runtime_error(fmt::format("particle id {} appears twice", r.id));
+        seen[k] = 1;
+        unpack_particle(r, all, k);
       }
     } else {
       std::vector<std::uint32_t> order(n);

@@ -1,0 +1,234 @@
+// The mesodpd program under mpirun (CTest label mpi): results that do not depend on the rank count,
+// conservation under decomposition, restarts on another rank count, and refused decompositions.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+fs::path fresh_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::temp_directory_path() / "mesodpd_test_mpi" / info->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// `mpirun -np N mesodpd ARGS` in `dir`. Ranks yield when idle, so more ranks than cores stay usable.
+Result mpirun(const fs::path& dir, int ranks, const std::string& args) {
+  const std::string cmd = "cd '" + dir.string() +
+                          "' && OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                          "OMPI_MCA_mpi_yield_when_idle=1 OMPI_MCA_rmaps_base_oversubscribe=1 timeout 300 '" +
+                          std::string(MESODPD_MPIEXEC) + "' --oversubscribe -np " + std::to_string(ranks) + " '" +
+                          mesodpd::test::mesodpd_bin() + "' " + args + " > mpi_stdout.txt 2> mpi_stderr.txt";
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_all(dir / "mpi_stdout.txt");
+  r.err = read_all(dir / "mpi_stderr.txt");
+  return r;
+}
+
+// An 8 x 8 x 8 standard fluid (rho = 3, a = 25, gamma = 4.5, dt = 0.04): 8 cells per axis, so every
+// grid below leaves each rank at least 4 cells thick. `extra` adds or overrides tables.
+std::string fluid_config(const std::string& extra) {
+  return "[system]\nbox = [8.0, 8.0, 8.0]\nkT = 1.0\nseed = 2026\n\n"
+         "[[species]]\nname = \"A\"\ndensity = 3.0\n\n"
+         "[pair]\na = 25.0\ngamma = 4.5\n\n[integrator]\ndt = 0.04\n\n"
+         "[run]\nsteps = 2000\n\n" +
+         extra;
+}
+
+const char* kOutput =
+    "[output]\nthermo_every = 100\nprogress = false\n\n"
+    "[output.dump]\nevery = 500\nfields = [\"id\", \"species\", \"position\", \"velocity\", \"force\", \"image\"]\n\n"
+    "[analysis.msd]\nevery = 100\n";
+
+void write(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+std::string grid_table(int px, int py, int pz) {
+  return "[parallel]\ngrid = [" + std::to_string(px) + ", " + std::to_string(py) + ", " + std::to_string(pz) + "]\n\n";
+}
+
+std::vector<std::vector<double>> thermo_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// Cells mode, 2,000 steps, on 1, 2 (2x1x1), 4 (2x2x1) and 8 (2x2x2) ranks: with 2x2x2 every face, edge
+// and corner of a domain is shared with another rank. Checkpoint (positions, velocities, forces, images in
+// id order), thermo.csv, trajectory and MSD must be byte-identical to the single-rank run.
+TEST(Mpi, TrajectoriesAreBitIdenticalOnOneTwoFourAndEightRanks) {
+  const fs::path dir = fresh_dir();
+  struct Case {
+    int ranks;
+    std::array<int, 3> grid;
+  };
+  const std::vector<Case> cases = {{1, {1, 1, 1}}, {2, {2, 1, 1}}, {4, {2, 2, 1}}, {8, {2, 2, 2}}};
+  for (const Case& c : cases) {
+    const std::string name = fmt::format("r{}", c.ranks);
+    write(dir / (name + ".toml"), fluid_config(grid_table(c.grid[0], c.grid[1], c.grid[2]) + kOutput));
+    const Result r = mpirun(dir, c.ranks, "run " + name + ".toml --out " + name);
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find(std::to_string(c.ranks) + " rank(s)"), std::string::npos) << r.out;
+  }
+  for (const Case& c : cases) {
+    if (c.ranks == 1) continue;
+    const std::string name = fmt::format("r{}", c.ranks);
+    for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+      EXPECT_EQ(read_all(dir / name / file), read_all(dir / "r1" / file)) << file << " differs on " << c.ranks << " ranks";
+  }
+  // The particles really crossed domains: the mean squared displacement at the end exceeds the square of
+  // a domain's width (4) several times over.
+  std::ifstream msd(dir / "r8" / "msd.csv");
+  std::string line, last;
+  while (std::getline(msd, line))
+    if (!line.empty()) last = line;
+  const double final_msd = std::stod(last.substr(last.find(',', last.find(',') + 1) + 1));
+  EXPECT_GT(final_msd, 3 * 16.0) << last;
+}
+
+// Momentum is conserved to round-off and no particle is lost or duplicated after many migrations.
+TEST(Mpi, MomentumAndParticlesAreConservedUnderDecomposition) {
+  const fs::path dir = fresh_dir();
+  write(dir / "c.toml", fluid_config(grid_table(2, 2, 1) + kOutput));
+  const Result r = mpirun(dir, 4, "run c.toml --out out");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto rows = thermo_rows(dir / "out" / "thermo.csv");
+  ASSERT_EQ(rows.size(), 21u);
+  for (const auto& row : rows)
+    for (int k = 10; k < 13; ++k) EXPECT_LT(std::abs(row[static_cast<std::size_t>(k)]), 1e-9) << "step " << row[0];
+  // The last dump frame holds every id exactly once.
+  std::ifstream in(dir / "out" / "trajectory.lammpstrj");
+  std::string line;
+  std::vector<std::string> frame;
+  while (std::getline(in, line)) {
+    if (line == "ITEM: TIMESTEP") frame.clear();
+    frame.push_back(line);
+  }
+  ASSERT_GT(frame.size(), 9u);
+  EXPECT_EQ(frame[1], "2000");
+  std::set<long> ids;
+  for (std::size_t k = 9; k < frame.size(); ++k) ids.insert(std::stol(frame[k]));
+  EXPECT_EQ(ids.size(), 1536u);
+  EXPECT_EQ(frame.size() - 9, 1536u);
+  EXPECT_EQ(*ids.begin(), 1);  // LAMMPS dump ids count from 1
+  EXPECT_EQ(*ids.rbegin(), 1536);
+}
+
+// Checkpoints written on N ranks continue on M ranks exactly as an uninterrupted single-rank run.
+TEST(Mpi, RestartOnADifferentRankCount) {
+  const fs::path dir = fresh_dir();
+  write(dir / "c.toml", fluid_config(kOutput));
+  ASSERT_EQ(mpirun(dir, 1, "run c.toml --out whole").code, 0);
+  ASSERT_EQ(mpirun(dir, 2, "run c.toml --out a --steps 1000").code, 0);
+  fs::copy_file(dir / "a" / "checkpoint.mdpd", dir / "a1000.mdpd");
+  const Result r = mpirun(dir, 4, "run c.toml --out a --restart a1000.mdpd");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  ASSERT_EQ(mpirun(dir, 4, "run c.toml --out b --steps 1000").code, 0);
+  fs::copy_file(dir / "b" / "checkpoint.mdpd", dir / "b1000.mdpd");
+  ASSERT_EQ(mpirun(dir, 1, "run c.toml --out b --restart b1000.mdpd").code, 0);
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj"}) {
+    EXPECT_EQ(read_all(dir / "a" / file), read_all(dir / "whole" / file)) << file << " (2 -> 4 ranks)";
+    EXPECT_EQ(read_all(dir / "b" / file), read_all(dir / "whole" / file)) << file << " (4 -> 1 rank)";
+  }
+}
+
+// Verlet lists (ghost refresh between rebuilds), two species, a body force, reverse Poiseuille flow, RDF,
+// MSD and a GSD trajectory: every output file is the same on 3 ranks (automatic grid) as on one.
+TEST(Mpi, EveryFeatureWorksUnderDecomposition) {
+  const fs::path dir = fresh_dir();
+  const std::string cfg =
+      "[system]\nbox = [8.0, 7.0, 9.0]\nkT = 1.0\nseed = 11\n\n"
+      "[[species]]\nname = \"A\"\ndensity = 3.0\n\n"
+      "[[species]]\nname = \"B\"\ncount = 300\nbody_force = [0.01, 0.0, 0.0]\n\n"
+      "[pair]\na = 25.0\ngamma = 4.5\n\n[integrator]\ndt = 0.04\n\n[run]\nsteps = 600\n\n"
+      "[neighbor]\nmethod = \"verlet\"\nskin = 0.8\n\n"
+      "[output]\nthermo_every = 50\nprogress = false\n\n"
+      "[output.dump]\nformat = \"gsd\"\nevery = 200\nfields = [\"id\", \"species\", \"position\", \"velocity\", "
+      "\"force\", \"image\"]\n\n"
+      "[poiseuille]\nforce = 0.02\nstart = 100\nevery = 5\nblocks = 4\n\n"
+      "[analysis.rdf]\nevery = 100\n\n[analysis.msd]\nevery = 100\n";
+  write(dir / "f.toml", cfg);
+  ASSERT_EQ(mpirun(dir, 1, "run f.toml --out one").code, 0);
+  const Result r = mpirun(dir, 3, "run f.toml --out three");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.gsd", "poiseuille_profile.csv", "rdf.csv",
+                           "msd.csv", "viscosity.json"})
+    EXPECT_EQ(read_all(dir / "three" / file), read_all(dir / "one" / file)) << file;
+  // The Verlet list really was reused between rebuilds (so ghosts were refreshed, not rebuilt).
+  const auto rows = thermo_rows(dir / "three" / "thermo.csv");
+  EXPECT_LT(rows.back()[16], 0.5 * rows.back()[0]) << "neighbor_builds";
+}
+
+TEST(Mpi, RefusesADecompositionThinnerThanTheGhostWidth) {
+  const fs::path dir = fresh_dir();
+  // Verlet cells are at least 1.3 wide: 6 cells along x cannot give 8 ranks one cell each.
+  write(dir / "thin.toml",
+        fluid_config("[neighbor]\nmethod = \"verlet\"\nskin = 0.3\n\n" + grid_table(8, 1, 1) + kOutput));
+  const Result r = mpirun(dir, 8, "run thin.toml --out out");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("parallel.grid"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("thinner than the ghost width"), std::string::npos) << r.err;
+  write(dir / "count.toml", fluid_config(grid_table(2, 2, 1) + kOutput));
+  const Result c = mpirun(dir, 2, "run count.toml --out out");
+  EXPECT_EQ(c.code, 2);
+  EXPECT_NE(c.err.find("needs 4 ranks but the run has 2"), std::string::npos) << c.err;
+}
+
+// A blow-up on a decomposed run stops every rank with the same step and particle as on one rank.
+TEST(Mpi, BlowUpIsReportedLikeOnOneRank) {
+  const fs::path dir = fresh_dir();
+  // An unstable time step: a = 25 with dt = 0.5 explodes within about ten steps.
+  std::string cfg = fluid_config("[output]\nprogress = false\n");
+  cfg.replace(cfg.find("dt = 0.04"), 9, "dt = 0.5");
+  write(dir / "b.toml", cfg);
+  const Result one = mpirun(dir, 1, "run b.toml --out one");
+  const Result four = mpirun(dir, 4, "run b.toml --out four");
+  EXPECT_EQ(one.code, 3) << one.err;
+  EXPECT_EQ(four.code, 3) << four.err;
+  const auto message = [](const std::string& err) {
+    const auto at = err.find("blew up at step");
+    return at == std::string::npos ? std::string() : err.substr(at, err.find('\n', at) - at);
+  };
+  EXPECT_FALSE(message(one.err).empty()) << one.err;
+  EXPECT_EQ(message(four.err), message(one.err));
+}
+
+}  // namespace
