@@ -11,6 +11,7 @@
 #include <string>
 
 #include "engine/simulation.hpp"
+#include "parallel/comm.hpp"
 
 namespace {
 
@@ -49,7 +50,10 @@ mesodpd::SimulationSpec fluid(std::uint64_t n, double skin, bool verlet) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"mesodpd fluid throughput benchmark"};
+  mesodpd::MpiSession mpi(argc, argv);
+  const mesodpd::Comm comm = mesodpd::Comm::world();
+  CLI::App app{"mesodpd fluid throughput benchmark (under mpirun: strong scaling, or weak with --per-rank)"};
+  bool per_rank = false;
   std::vector<std::uint64_t> sizes{3000, 98304};
   std::vector<int> threads{1, 2};
   int steps = 200, warmup = 50;
@@ -61,31 +65,53 @@ int main(int argc, char** argv) {
   app.add_option("--warmup", warmup, "untimed steps first (equilibrates the random start)");
   app.add_option("--skin", skin, "Verlet skin");
   app.add_option("--method", method, "verlet | cells")->check(CLI::IsMember({"verlet", "cells"}));
-  CLI11_PARSE(app, argc, argv);
+  app.add_flag("--per-rank", per_rank, "--n is per MPI rank (weak scaling) instead of in total");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return comm.root() ? app.exit(e) : 1;
+  }
+  // Only the root prints; the others run silently.
+  auto print = [&]<class... A>(fmt::format_string<A...> f, A&&... args) {
+    if (comm.root()) fmt::print(f, std::forward<A>(args)...);
+  };
 
   utsname u{};
   uname(&u);
-  fmt::print("# machine: {} ({} logical CPUs), {} {}\n", cpu_model(), omp_get_num_procs(), u.sysname, u.release);
-  fmt::print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, double precision, method={} skin={}\n", method,
+  print("# machine: {} ({} logical CPUs), {} {}, {} MPI rank(s)\n", cpu_model(), omp_get_num_procs(), u.sysname,
+        u.release, comm.size());
+  print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, double precision, method={} skin={}\n", method,
              method == "verlet" ? skin : 0.0);
-  fmt::print("{:>9} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9}\n", "N", "threads", "steps", "particle-steps/s",
-             "ns/particle", "rebuilds", "peakRSS/N", "RSS/N");
+  print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7}\n", "N", "ranks", "threads", "steps",
+        "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%");
   for (std::uint64_t n : sizes)
     for (int t : threads) {
       omp_set_num_threads(t);
-      mesodpd::Simulation sim(fluid(n, skin, method == "verlet"), mesodpd::RunOptions{});
+      const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
+      mesodpd::Simulation sim(fluid(total, skin, method == "verlet"), mesodpd::RunOptions{});
       for (int k = 0; k < warmup; ++k) sim.step();
       const auto b0 = sim.neighbor_list().builds();
+      comm.barrier();
+      const double c0 = sim.halo().seconds();
       const auto t0 = std::chrono::steady_clock::now();
       for (int k = 0; k < steps; ++k) sim.step();
+      comm.barrier();
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double np = static_cast<double>(sim.particles().n_local);
+      // Communication share: the largest per-rank time in migration, ghosts and reverse forces (which
+      // includes waiting for slower neighbours) over the wall time.
+      const double comm_secs =
+          static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().seconds() - c0) * 1e9))) * 1e-9;
+      const double np = static_cast<double>(sim.total_particles());
       const double rate = np * steps / secs;
+      const double local = static_cast<double>(sim.particles().n_local);
+      const auto& g = sim.halo().decomposition().grid;
       // Peak RSS covers the whole process (all earlier runs too), so run the largest N last or alone.
-      fmt::print("{:>9} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f}\n", sim.particles().n_local, t, steps,
-                 rate, 1e9 / rate, sim.neighbor_list().builds() - b0, proc_status_bytes("VmHWM:") / np,
-                 proc_status_bytes("VmRSS:") / np);
-      std::fflush(stdout);
+      // Memory columns are the root rank's, per particle it owns.
+      print("{:>9} {:>5} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f} {:>9} {:>7.1f}\n",
+            sim.total_particles(), comm.size(), t, steps, rate, 1e9 / rate, sim.neighbor_list().builds() - b0,
+            proc_status_bytes("VmHWM:") / local, proc_status_bytes("VmRSS:") / local,
+            fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs);
+      if (comm.root()) std::fflush(stdout);
     }
   return 0;
 }

@@ -5,6 +5,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <charconv>
 #include <cstring>
 #include <cmath>
@@ -383,6 +386,10 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range);
   halo_ = Halo(comm, dec);
   halo_.keep_owned(p_, CellGrid(box_, range));
+#if defined(__GLIBC__)
+  // The whole system was built on every rank; hand the freed memory back to the system.
+  if (comm.distributed()) malloc_trim(0);
+#endif
   if (!restarted) {
     nlist_.build(p_, box_, &halo_);
     compute_forces(true);

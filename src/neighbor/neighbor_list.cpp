@@ -67,7 +67,7 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
   if (settings_.sort || decomposed) p.permute(order_);
   if (decomposed) {
     // Ghost cells follow the owned ones in storage and in cell_start_.
-    halo->build_ghosts(p, grid_, ghost_count_);
+    halo->build_ghosts(p, grid_, cell_start_, ghost_count_);
     for (std::size_t c = owned; c < nc; ++c) cell_start_[c + 1] = cell_start_[c] + ghost_count_[c - owned];
   }
   if (cells_only_) {

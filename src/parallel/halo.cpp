@@ -122,22 +122,26 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
     for (int d = 0; d < 3; ++d) {
       if (!dec_.decomposed(d)) continue;
       const int np = dec_.grid[static_cast<std::size_t>(d)], me = dec_.coord[static_cast<std::size_t>(d)];
-      std::vector<std::uint32_t> keep;
       std::vector<MoveRecord> out[2];
+      std::vector<std::uint32_t> leaving;
       for (std::size_t i = 0; i < p.n_local; ++i) {
         const int k = owner_along(i, d);
-        if (k == me) {
-          keep.push_back(static_cast<std::uint32_t>(i));
-          continue;
-        }
+        if (k == me) continue;
         const int dir = ((k - me + np) % np) <= np / 2 ? 1 : 0;
         out[dir].push_back(pack_particle(p, i));
+        leaving.push_back(static_cast<std::uint32_t>(i));
       }
       std::vector<MoveRecord> in[2];
       for (int dir = 0; dir < 2; ++dir)
         in[dir] = records_from<MoveRecord>(
             comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(100, d, dir), as_bytes_of(out[dir])));
-      if (keep.size() != p.n_local) p.permute(keep);
+      // Fill the holes from the end (the storage order is rebuilt by the cell sort that follows).
+      std::size_t end = p.n_local;
+      for (auto it = leaving.rbegin(); it != leaving.rend(); ++it) {
+        --end;
+        if (*it != end) unpack_particle(pack_particle(p, end), p, *it);
+      }
+      p.n_local = end;
       const std::size_t n0 = p.n_local, m = in[0].size() + in[1].size();
       p.resize(n0 + m);
       p.n_local = n0 + m;
@@ -161,7 +165,8 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
   }
 }
 
-void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::uint32_t>& ghost_count) {
+void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector<std::uint32_t>& cell_start,
+                        std::vector<std::uint32_t>& ghost_count) {
   const std::size_t n_ghost_cells = grid.num_cells() - grid.num_owned_cells();
   ghost_count.assign(n_ghost_cells, 0);
   n_local_ = p.n_local;
@@ -170,42 +175,44 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::
   slot_.clear();
   if (!active()) return;
   Stopwatch sw(seconds_);
-  const auto& lo = grid.owned_lo();
   const auto& own = grid.owned_dims();
-  // Cell coordinates (in this rank's frame) of locals, then of ghosts in order of arrival.
-  std::vector<std::array<std::int16_t, 3>> coords(n_local_);
-  for (std::size_t i = 0; i < n_local_; ++i)
-    for (int d = 0; d < 3; ++d)
-      coords[i][static_cast<std::size_t>(d)] =
-          static_cast<std::int16_t>(grid.global_coord(coord_array(p, d)[i], d) - lo[static_cast<std::size_t>(d)]);
-  std::vector<GhostRecord> ghosts;
+  std::vector<GhostRecord> ghosts;  // in order of arrival, with cell coordinates in this rank's frame
   for (int d = 0; d < 3; ++d) {
     const auto u = static_cast<std::size_t>(d);
     for (int dir = 0; dir < 2; ++dir) send_[u][static_cast<std::size_t>(dir)].clear();
     if (!dec_.decomposed(d)) continue;
-    const std::size_t have = n_local_ + ghosts.size();
+    const std::size_t have = ghosts.size();
+    std::vector<GhostRecord> out[2];
     for (int dir = 0; dir < 2; ++dir) {
       // The lowest owned layer goes to the neighbour below (its upper ghost layer), the highest above.
+      // Locals are sorted by cell, so a layer is a set of cell ranges; earlier ghosts are scanned.
       const int layer = dir == 0 ? 0 : own[u] - 1;
       auto& list = send_[u][static_cast<std::size_t>(dir)];
-      for (std::size_t a = 0; a < have; ++a)
-        if (coords[a][u] == layer) list.push_back(static_cast<std::uint32_t>(a));
+      const std::size_t e = (u + 1) % 3, f = (u + 2) % 3;
+      for (int b = 0; b < own[f]; ++b)
+        for (int a = 0; a < own[e]; ++a) {
+          std::array<int, 3> c{};
+          c[u] = layer;
+          c[e] = a;
+          c[f] = b;
+          const auto cell = static_cast<std::size_t>(grid.index_of(c[0], c[1], c[2]));
+          for (std::uint32_t i = cell_start[cell]; i < cell_start[cell + 1]; ++i) {
+            list.push_back(i);
+            out[dir].push_back(GhostRecord{p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i], p.id[i], p.species[i],
+                                           {static_cast<std::int16_t>(c[0]), static_cast<std::int16_t>(c[1]),
+                                            static_cast<std::int16_t>(c[2])},
+                                           0});
+          }
+        }
+      for (std::size_t g = 0; g < have; ++g)
+        if (ghosts[g].c[u] == layer) {
+          list.push_back(static_cast<std::uint32_t>(n_local_ + g));
+          out[dir].push_back(ghosts[g]);
+        }
     }
     for (int dir = 0; dir < 2; ++dir) {
-      const auto& list = send_[u][static_cast<std::size_t>(dir)];
-      std::vector<GhostRecord> out(list.size());
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        const std::size_t a = list[k];
-        GhostRecord& r = out[k];
-        if (a < n_local_) {
-          r = GhostRecord{p.x[a], p.y[a], p.z[a], p.vx[a], p.vy[a], p.vz[a], p.id[a], p.species[a], {0, 0, 0}, 0};
-        } else {
-          r = ghosts[a - n_local_];
-        }
-        for (std::size_t e = 0; e < 3; ++e) r.c[e] = coords[a][e];
-      }
       std::vector<GhostRecord> in = records_from<GhostRecord>(
-          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(200, d, dir), as_bytes_of(out)));
+          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(200, d, dir), as_bytes_of(out[dir])));
       recv_begin_[u][static_cast<std::size_t>(dir)] = n_local_ + ghosts.size();
       recv_count_[u][static_cast<std::size_t>(dir)] = in.size();
       // What the neighbour above sent (its lowest layer) is this rank's upper ghost layer, and vice versa.
@@ -213,7 +220,6 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::
       for (GhostRecord& r : in) {
         r.c[u] = layer;
         ghosts.push_back(r);
-        coords.push_back({r.c[0], r.c[1], r.c[2]});
       }
     }
   }

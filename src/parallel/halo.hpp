@@ -31,8 +31,10 @@ class Halo {
   // Sends every local particle that left this rank's cells to its owner; ghosts are dropped.
   void migrate(ParticleData& p, const CellGrid& grid);
   // Appends ghost copies (id, species, position, velocity) sorted by ghost cell, and writes the number
-  // of ghosts of each ghost cell to ghost_count[cell - num_owned_cells()].
-  void build_ghosts(ParticleData& p, const CellGrid& grid, std::vector<std::uint32_t>& ghost_count);
+  // of ghosts of each ghost cell to ghost_count[cell - num_owned_cells()]. The locals must be sorted by
+  // cell, owned cell c holding [cell_start[c], cell_start[c+1]).
+  void build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector<std::uint32_t>& cell_start,
+                    std::vector<std::uint32_t>& ghost_count);
   // Refreshes positions and velocities of the ghosts of the last build_ghosts (Verlet lists).
   void update_ghosts(ParticleData& p);
   // Adds the fixed-point forces accumulated on ghosts (f3: x, y, z per particle, local and ghost) to

@@ -108,6 +108,12 @@ TEST(Mpi, TrajectoriesAreBitIdenticalOnOneTwoFourAndEightRanks) {
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find(std::to_string(c.ranks) + " rank(s)"), std::string::npos) << r.out;
   }
+  // Without mpirun the program is a one-rank run too, and gives the same files.
+  const std::string plain = "cd '" + dir.string() + "' && OMP_NUM_THREADS=2 timeout 300 '" +
+                            mesodpd::test::mesodpd_bin() + "' run r1.toml --out plain > plain.txt 2>&1";
+  ASSERT_EQ(std::system(plain.c_str()), 0) << read_all(dir / "plain.txt");
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+    EXPECT_EQ(read_all(dir / "plain" / file), read_all(dir / "r1" / file)) << file << " differs without mpirun";
   for (const Case& c : cases) {
     if (c.ranks == 1) continue;
     const std::string name = fmt::format("r{}", c.ranks);
