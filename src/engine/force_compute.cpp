@@ -3,10 +3,12 @@
 // physics/dpd_pair.hpp, fixed-point conversion — and finally scattered into per-thread integer buffers.
 #include "engine/force_compute.hpp"
 
+#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "engine/fixed_point.hpp"
@@ -25,7 +27,7 @@ struct PairBatch {
   static constexpr std::size_t kCapacity = 1024;
   std::size_t m = 0;
   alignas(64) std::uint32_t i[kCapacity];
-  alignas(64) std::uint32_t j[kCapacity];
+  alignas(64) std::uint32_t j[kCapacity + 16];  // + one vector: compressed stores may run past m
   alignas(64) PairReal dx[kCapacity];
   alignas(64) PairReal dy[kCapacity];
   alignas(64) PairReal dz[kCapacity];
@@ -192,7 +194,29 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
         if (b.m + cnt > PairBatch::kCapacity) flush();
         const std::size_t m0 = b.m;
         std::size_t m = m0;
-        for (std::size_t k = 0; k < cnt; ++k) {
+        std::size_t k = 0;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+        // Survivors packed with an in-register compress and a plain store: one vector of candidates per
+        // step instead of one candidate (the memory form of vpcompress is slow on some cores).
+        if constexpr (std::is_same_v<PairReal, double>) {
+          const __m512d lim = _mm512_set1_pd(filter2);
+          for (; k + 8 <= cnt; k += 8) {
+            const __mmask8 keep = _mm512_cmp_pd_mask(_mm512_loadu_pd(r2 + k), lim, _CMP_LT_OQ);
+            const __m256i js = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cj + k));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.j + m), _mm256_maskz_compress_epi32(keep, js));
+            m += static_cast<std::size_t>(__builtin_popcount(keep));
+          }
+        } else {
+          const __m512 lim = _mm512_set1_ps(filter2);
+          for (; k + 16 <= cnt; k += 16) {
+            const __mmask16 keep = _mm512_cmp_ps_mask(_mm512_loadu_ps(r2 + k), lim, _CMP_LT_OQ);
+            const __m512i js = _mm512_loadu_si512(cj + k);
+            _mm512_storeu_si512(b.j + m, _mm512_maskz_compress_epi32(keep, js));
+            m += static_cast<std::size_t>(__builtin_popcount(keep));
+          }
+        }
+#endif
+        for (; k < cnt; ++k) {
           b.j[m] = cj[k];
           m += r2[k] < filter2 ? 1 : 0;
         }
