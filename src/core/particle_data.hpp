@@ -24,14 +24,22 @@ struct ParticleData {
 
   std::size_t size() const { return n_local + n_ghost; }
 
+  // Growing keeps 1/8 headroom rather than the standard library's doubling: appending ghosts (a few
+  // per cent of the locals) must not double the memory of every array.
   void resize(std::size_t n) {
-    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &hx, &hy, &hz}) v->resize(n, 0.0);
-    for (auto* v : {&species, &ix, &iy, &iz}) v->resize(n, 0);
-    id.resize(n, 0);
+    const std::size_t room = n + n / 8;
+    auto grow = [&](auto& v, auto zero) {
+      if (n > v.capacity()) v.reserve(room);
+      v.resize(n, zero);
+    };
+    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &hx, &hy, &hz}) grow(*v, 0.0);
+    for (auto* v : {&species, &ix, &iy, &iz}) grow(*v, std::int32_t{0});
+    grow(id, std::uint32_t{0});
   }
 
-  // Reorder local particles so that new index k holds old index order[k]; ghosts are dropped.
-  void permute(const std::vector<std::uint32_t>& order);
+  // Reorder local particles so that new index k holds old index order[k]; ghosts are dropped. The
+  // arrays keep room for `capacity` particles (ghosts to be appended without a reallocation).
+  void permute(const std::vector<std::uint32_t>& order, std::size_t capacity = 0);
 };
 
 }  // namespace mesodpd

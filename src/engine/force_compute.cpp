@@ -77,7 +77,10 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   const std::size_t n = p.n_local;
   const std::size_t ntot = p.size();  // local particles, then ghosts
   const bool ghosts = p.n_ghost > 0;
-  if (ghosts) fixed_.resize(3 * ntot);
+  if (ghosts) {
+    if (3 * ntot > fixed_.capacity()) fixed_.reserve(3 * ntot + 3 * ntot / 8);  // not the usual doubling
+    fixed_.resize(3 * ntot);
+  }
   const int nthreads = omp_get_max_threads();
   buffers_.resize(static_cast<std::size_t>(nthreads));
   while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());

@@ -64,7 +64,7 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
     for (std::size_t i = 0; i < n; ++i) order_[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
   }
   cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
-  if (settings_.sort || decomposed) p.permute(order_);
+  if (settings_.sort || decomposed) p.permute(order_, decomposed ? n + n / 8 : 0);  // room for the ghosts
   if (decomposed) {
     // Ghost cells follow the owned ones in storage and in cell_start_.
     halo->build_ghosts(p, grid_, cell_start_, ghost_count_);
