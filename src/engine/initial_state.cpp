@@ -70,9 +70,64 @@ void zero_velocities(ParticleData& p) {
   std::fill(p.vz.begin(), p.vz.end(), 0.0);
 }
 
+
+// Unit-variance Maxwell-Boltzmann draw for particle `id` (a pure function of seed and id); returns
+// the particle's mass.
+double raw_maxwell(const SimulationSpec& spec, std::uint32_t id, std::int32_t species, double v[3]) {
+  const double m = spec.species[static_cast<std::size_t>(species)].mass;
+  const double sd = std::sqrt(spec.kT / m);
+  const Philox4x32 a = particle_bits(spec.seed, RngStream::InitVelocity, id, 0);
+  const Philox4x32 b = particle_bits(spec.seed, RngStream::InitVelocity, id, 1);
+  v[0] = sd * gaussian_unit(a.v[0], a.v[1]);
+  v[1] = sd * gaussian_unit(a.v[2], a.v[3]);
+  v[2] = sd * gaussian_unit(b.v[0], b.v[1]);
+  return m;
+}
+
+// Centre-of-mass velocity u and the factor that makes the kinetic temperature (3N - 3 degrees of
+// freedom) exactly kT: v = (raw - u) * scale.
+struct MaxwellShift {
+  double u[3] = {0, 0, 0};
+  double scale = 1.0;
+};
+
+// for_all(f) calls f(id, species) for every particle of the system, always in the same order.
+template <class ForAll>
+MaxwellShift maxwell_shift(const SimulationSpec& spec, std::uint64_t n, ForAll&& for_all) {
+  MaxwellShift out;
+  if (n == 0) return out;
+  double mom[3] = {0, 0, 0}, mass_total = 0;
+  for_all([&](std::uint32_t id, std::int32_t s) {
+    double v[3];
+    const double m = raw_maxwell(spec, id, s, v);
+    for (int d = 0; d < 3; ++d) mom[d] += m * v[d];
+    mass_total += m;
+  });
+  for (int d = 0; d < 3; ++d) out.u[d] = mom[d] / mass_total;
+  double ke2 = 0;
+  for_all([&](std::uint32_t id, std::int32_t s) {
+    double v[3];
+    const double m = raw_maxwell(spec, id, s, v);
+    for (int d = 0; d < 3; ++d) v[d] -= out.u[d];
+    ke2 += m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  });
+  if (n >= 2 && ke2 > 0) out.scale = std::sqrt(spec.kT * (3.0 * static_cast<double>(n) - 3.0) / ke2);
+  return out;
+}
+
+void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, ParticleData& p) {
+  for (std::size_t k = 0; k < p.n_local; ++k) {
+    double v[3];
+    raw_maxwell(spec, p.id[k], p.species[k], v);
+    p.vx[k] = (v[0] - shift.u[0]) * shift.scale;
+    p.vy[k] = (v[1] - shift.u[1]) * shift.scale;
+    p.vz[k] = (v[2] - shift.u[2]) * shift.scale;
+  }
+}
+
 }  // namespace
 
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
+void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep) {
   if (!spec.data_file.empty()) {
     const bool has_velocities = load_data_file(spec, box, p);
     if (spec.velocities == VelocityInit::File && !has_velocities)
@@ -91,9 +146,6 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
   }
   if (total > std::numeric_limits<std::uint32_t>::max())
     throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", total));
-  p.resize(total);
-  p.n_local = total;
-  p.n_ghost = 0;
 
   // Lattice species share one simple-cubic-like grid with at least lattice_total sites, spaced to fill
   // the box; sites are filled in order, species after species.
@@ -104,63 +156,65 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p) {
     for (int d = 0; d < 3; ++d) grid[static_cast<std::size_t>(d)] = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(len[d] / spacing - 1e-9)));
     while (grid[0] * grid[1] * grid[2] < lattice_total) ++grid[0];
   }
-  std::uint64_t i = 0, site = 0;
-  for (std::size_t s = 0; s < spec.species.size(); ++s) {
-    for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
-      p.id[i] = static_cast<std::uint32_t>(i + 1);  // LAMMPS-style ids start at 1
-      p.species[i] = static_cast<std::int32_t>(s);
-      if (spec.species[s].placement == Placement::Lattice) {
-        const std::uint64_t gx = site % grid[0], gy = (site / grid[0]) % grid[1], gz = site / (grid[0] * grid[1]);
-        ++site;
-        p.x[i] = (static_cast<double>(gx) + 0.5) * box.len.x / static_cast<double>(grid[0]);
-        p.y[i] = (static_cast<double>(gy) + 0.5) * box.len.y / static_cast<double>(grid[1]);
-        p.z[i] = (static_cast<double>(gz) + 0.5) * box.len.z / static_cast<double>(grid[2]);
-      } else {
-        const Philox4x32 b = particle_bits(spec.seed, RngStream::InitPosition, p.id[i], 0);
-        p.x[i] = (static_cast<double>(b.v[0]) / 4294967296.0) * box.len.x;
-        p.y[i] = (static_cast<double>(b.v[1]) / 4294967296.0) * box.len.y;
-        p.z[i] = (static_cast<double>(b.v[2]) / 4294967296.0) * box.len.z;
+  // Visits every particle in id order with (index, id, species, x, y, z); positions are functions of
+  // the id (random placement) or of the lattice site.
+  auto for_each_particle = [&](auto&& f) {
+    std::uint64_t i = 0, site = 0;
+    for (std::size_t s = 0; s < spec.species.size(); ++s) {
+      for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
+        const auto id = static_cast<std::uint32_t>(i + 1);  // LAMMPS-style ids start at 1
+        double x, y, z;
+        if (spec.species[s].placement == Placement::Lattice) {
+          const std::uint64_t gx = site % grid[0], gy = (site / grid[0]) % grid[1], gz = site / (grid[0] * grid[1]);
+          ++site;
+          x = (static_cast<double>(gx) + 0.5) * box.len.x / static_cast<double>(grid[0]);
+          y = (static_cast<double>(gy) + 0.5) * box.len.y / static_cast<double>(grid[1]);
+          z = (static_cast<double>(gz) + 0.5) * box.len.z / static_cast<double>(grid[2]);
+        } else {
+          const Philox4x32 b = particle_bits(spec.seed, RngStream::InitPosition, id, 0);
+          x = (static_cast<double>(b.v[0]) / 4294967296.0) * box.len.x;
+          y = (static_cast<double>(b.v[1]) / 4294967296.0) * box.len.y;
+          z = (static_cast<double>(b.v[2]) / 4294967296.0) * box.len.z;
+        }
+        f(id, static_cast<std::int32_t>(s), x, y, z);
       }
     }
-  }
-  if (spec.velocities == VelocityInit::Zero)
-    zero_velocities(p);
+  };
+  std::size_t kept = 0;
+  if (keep)
+    for_each_particle([&](std::uint32_t, std::int32_t, double x, double y, double z) { kept += keep(x, y, z) ? 1 : 0; });
   else
-    assign_maxwell_velocities(spec, p);
+    kept = total;
+  p.resize(kept);
+  p.n_local = kept;
+  p.n_ghost = 0;
+  std::size_t i = 0;
+  for_each_particle([&](std::uint32_t id, std::int32_t s, double x, double y, double z) {
+    if (keep && !keep(x, y, z)) return;
+    p.id[i] = id;
+    p.species[i] = s;
+    p.x[i] = x;
+    p.y[i] = y;
+    p.z[i] = z;
+    ++i;
+  });
+  if (spec.velocities == VelocityInit::Zero) {
+    zero_velocities(p);
+    return;
+  }
+  // Maxwell-Boltzmann: the centre-of-mass velocity and the rescaling come from sums over the whole
+  // system in id order, so a rank that keeps only its own particles gets the same bits as one rank.
+  const MaxwellShift shift = maxwell_shift(spec, total, [&](auto&& f) {
+    for_each_particle([&](std::uint32_t id, std::int32_t s, double, double, double) { f(id, s); });
+  });
+  apply_maxwell(spec, shift, p);
 }
 
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {
-  const std::size_t n = p.n_local;
-  if (n == 0) return;
-  double mom[3] = {0, 0, 0}, mass_total = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double m = spec.species[static_cast<std::size_t>(p.species[i])].mass;
-    const double sd = std::sqrt(spec.kT / m);
-    const Philox4x32 a = particle_bits(spec.seed, RngStream::InitVelocity, p.id[i], 0);
-    const Philox4x32 b = particle_bits(spec.seed, RngStream::InitVelocity, p.id[i], 1);
-    p.vx[i] = sd * gaussian_unit(a.v[0], a.v[1]);
-    p.vy[i] = sd * gaussian_unit(a.v[2], a.v[3]);
-    p.vz[i] = sd * gaussian_unit(b.v[0], b.v[1]);
-    mom[0] += m * p.vx[i];
-    mom[1] += m * p.vy[i];
-    mom[2] += m * p.vz[i];
-    mass_total += m;
-  }
-  double ke2 = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    p.vx[i] -= mom[0] / mass_total;
-    p.vy[i] -= mom[1] / mass_total;
-    p.vz[i] -= mom[2] / mass_total;
-    const double m = spec.species[static_cast<std::size_t>(p.species[i])].mass;
-    ke2 += m * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
-  }
-  if (n < 2 || ke2 <= 0) return;
-  const double scale = std::sqrt(spec.kT * (3.0 * static_cast<double>(n) - 3.0) / ke2);
-  for (std::size_t i = 0; i < n; ++i) {
-    p.vx[i] *= scale;
-    p.vy[i] *= scale;
-    p.vz[i] *= scale;
-  }
+  const MaxwellShift shift = maxwell_shift(spec, p.n_local, [&](auto&& f) {
+    for (std::size_t i = 0; i < p.n_local; ++i) f(p.id[i], p.species[i]);
+  });
+  apply_maxwell(spec, shift, p);
 }
 
 }  // namespace mesodpd

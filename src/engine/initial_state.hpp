@@ -1,15 +1,23 @@
 // Building the particles of a new run: lattice or random placement, or a LAMMPS data file, and
 // Maxwell-Boltzmann velocities with zero total momentum (seed 000 Sect. 2.6).
 #pragma once
+#include <functional>
+
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
 
+// Which generated particles to store (by wrapped position): a rank keeps those of its own domain.
+using KeepPredicate = std::function<bool(double x, double y, double z)>;
+
 // Fills `p` and sets `box` from the spec (and the data file, if one is named). Placement and
-// velocities are pure functions of (seed, particle id), so they do not depend on thread count.
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p);
+// velocities are pure functions of (seed, particle id) and of sums over the whole system in id order,
+// so they do not depend on thread or rank count. With `keep`, a generated system (no data file)
+// stores only the particles it accepts, so a rank never holds the whole system; a data file is
+// always read whole.
+void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {});
 
 // Draws Maxwell-Boltzmann velocities at kT, removes the centre-of-mass velocity and rescales so the
 // kinetic temperature (3N - 3 degrees of freedom) is exactly kT.

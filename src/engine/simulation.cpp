@@ -370,26 +370,41 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   }
   final_step_ = options_.steps ? *options_.steps : spec_.steps;
   const bool restarted = !options_.restart.empty();
-  // Every rank builds (or reads) the whole system, then keeps the particles of its own cells.
-  if (restarted)
-    load_checkpoint(options_.restart);
-  else
-    make_initial_state(spec_, box_, p_);
-  n_total_ = p_.n_local;
-  if (box_.len.x < 2 * forces_.table().max_cutoff || box_.len.y < 2 * forces_.table().max_cutoff ||
-      box_.len.z < 2 * forces_.table().max_cutoff)
-    throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
   const Comm comm = Comm::world();
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
-  const Decomposition dec =
-      Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
-                          {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range);
-  halo_ = Halo(comm, dec);
-  halo_.keep_owned(p_, CellGrid(box_, range));
+  auto check_box = [&] {
+    const double two_rc = 2 * forces_.table().max_cutoff;
+    if (box_.len.x < two_rc || box_.len.y < two_rc || box_.len.z < two_rc)
+      throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
+  };
+  auto decompose = [&] {
+    halo_ = Halo(comm, Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
+                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range));
+  };
+  if (!restarted && spec_.data_file.empty() && comm.distributed()) {
+    // A generated system: each rank creates only the particles of its own cells.
+    box_.len = {spec_.box[0], spec_.box[1], spec_.box[2]};
+    check_box();
+    decompose();
+    const CellGrid global(box_, range);
+    make_initial_state(spec_, box_, p_, [&](double x, double y, double z) { return halo_.owns(x, y, z, global); });
+    n_total_ = 0;
+    for (const auto& s : spec_.species) n_total_ += s.count;
+  } else {
+    // A checkpoint or data file is read whole on every rank, which then keeps its own particles.
+    if (restarted)
+      load_checkpoint(options_.restart);
+    else
+      make_initial_state(spec_, box_, p_);
+    n_total_ = p_.n_local;
+    check_box();
+    decompose();
+    halo_.keep_owned(p_, CellGrid(box_, range));
 #if defined(__GLIBC__)
-  // The whole system was built on every rank; hand the freed memory back to the system.
-  if (comm.distributed()) malloc_trim(0);
+    // Hand the memory of the whole system back to the system.
+    if (comm.distributed()) malloc_trim(0);
 #endif
+  }
   if (!restarted) {
     nlist_.build(p_, box_, &halo_);
     compute_forces(true);

@@ -89,17 +89,20 @@ CellDomain Halo::cell_domain() const {
   return c;
 }
 
+bool Halo::owns(double x, double y, double z, const CellGrid& grid) const {
+  const double r[3] = {x, y, z};
+  for (int d = 0; d < 3; ++d)
+    if (dec_.decomposed(d) &&
+        dec_.owner_of_cell(d, grid.global_coord(r[d], d)) != dec_.coord[static_cast<std::size_t>(d)])
+      return false;
+  return true;
+}
+
 void Halo::keep_owned(ParticleData& p, const CellGrid& grid) const {
   if (!active()) return;
   std::vector<std::uint32_t> keep;
-  for (std::size_t i = 0; i < p.n_local; ++i) {
-    bool mine = true;
-    for (int d = 0; d < 3; ++d)
-      if (dec_.decomposed(d) &&
-          dec_.owner_of_cell(d, grid.global_coord(coord_array(p, d)[i], d)) != dec_.coord[static_cast<std::size_t>(d)])
-        mine = false;
-    if (mine) keep.push_back(static_cast<std::uint32_t>(i));
-  }
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    if (owns(p.x[i], p.y[i], p.z[i], grid)) keep.push_back(static_cast<std::uint32_t>(i));
   p.permute(keep);
 }
 

@@ -26,6 +26,8 @@ class Halo {
   // The cell block and ghost layers this rank's grid covers.
   CellDomain cell_domain() const;
 
+  // True when a wrapped position lies in this rank's cells (`grid`: the global cell grid).
+  bool owns(double x, double y, double z, const CellGrid& grid) const;
   // Drops the local particles another rank owns (after building or reading the whole system).
   void keep_owned(ParticleData& p, const CellGrid& grid) const;
   // Sends every local particle that left this rank's cells to its owner; ghosts are dropped.
