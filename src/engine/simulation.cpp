@@ -119,7 +119,10 @@ class Observers {
     if (progress_) progress_->update(step);
   }
   // The whole system in increasing id on the root (collective).
-  ParticleData gather() const { return gather_by_id(sim_.particles(), comm(), sim_.total_particles()); }
+  const ParticleData& gather() {
+    gather_by_id(sim_.particles(), comm(), sim_.total_particles(), snapshot_);
+    return snapshot_;
+  }
   // Running averages (thermo means, profile, RDF, MSD) for checkpoints. Each part is a length-prefixed
   // section, so a restart with an analysis switched off skips it and one switched on starts afresh.
   void save(ByteWriter& w) const;
@@ -140,6 +143,7 @@ class Observers {
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;
   std::vector<double> scratch_a_, scratch_b_, scratch_c_;
+  ParticleData snapshot_;  // the whole system in id order (on the root), reused between samples
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
 };
@@ -151,7 +155,7 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
   double mass = 0;
   if (s.poiseuille.enabled) {
     // The fluid's mass density, summed in id order so that it is the same on any rank count.
-    const ParticleData all = gather();
+    const ParticleData& all = gather();
     for (std::size_t i = 0; i < all.n_local; ++i) mass += s.species[static_cast<std::size_t>(all.species[i])].mass;
   }
   // Files belong to the root; an error there stops every rank.
@@ -276,7 +280,7 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
   const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
   if (!(profile_due || rdf_due || msd_due || dump_due)) return;
-  const ParticleData p = gather();
+  const ParticleData& p = gather();
   if (!comm().root()) return;
   const std::size_t n = p.n_local;
   if (profile_due) {

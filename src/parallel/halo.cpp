@@ -326,44 +326,62 @@ void Halo::reverse_forces(std::int64_t* f3, const ParticleData& p) {
 
 namespace mesodpd {
 
-ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected) {
-  std::vector<MoveRecord> mine(p.n_local);
-  for (std::size_t i = 0; i < p.n_local; ++i) mine[i] = pack_particle(p, i);
-  const std::vector<std::byte> bytes = comm.gather(as_bytes_of(mine));
-  ParticleData all;
-  comm.on_root([&] {
-    const std::vector<MoveRecord> recs = records_from<MoveRecord>(bytes);
-    const std::size_t n = recs.size();
+void gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected, ParticleData& all) {
+  // Places records (in any order) at their position in id order; ids must be distinct.
+  auto place = [&](std::size_t n, auto&& id_of, auto&& put) {
     if (n != expected)
       throw std::runtime_error(fmt::format("particles lost or duplicated: {} expected, {} found on {} rank(s)",
                                            expected, n, comm.size()));
     all.resize(n);
     all.n_local = n;
-    std::uint32_t min_id = n > 0 ? recs[0].id : 0, max_id = 0;
-    for (const MoveRecord& r : recs) {
-      min_id = std::min(min_id, r.id);
-      max_id = std::max(max_id, r.id);
+    all.n_ghost = 0;
+    if (n == 0) return;
+    std::uint32_t min_id = id_of(0), max_id = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      min_id = std::min(min_id, id_of(k));
+      max_id = std::max(max_id, id_of(k));
     }
-    if (n > 0 && max_id - min_id == n - 1) {
-      // Consecutive ids (the usual case, 1 .. N): place each record at its id.
+    if (max_id - min_id == n - 1) {
+      // Consecutive ids (the usual case, 1 .. N): each record goes to id - min_id.
       std::vector<std::uint8_t> seen(n, 0);
-      for (const MoveRecord& r : recs) {
-        const std::size_t k = r.id - min_id;
-        if (seen[k]) throw std::runtime_error(fmt::format("particle id {} appears twice", r.id));
-        seen[k] = 1;
-        unpack_particle(r, all, k);
-      }
-    } else {
-      std::vector<std::uint32_t> order(n);
-      for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>(k);
-      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return recs[a].id < recs[b].id; });
       for (std::size_t k = 0; k < n; ++k) {
-        if (k > 0 && recs[order[k]].id == recs[order[k - 1]].id)
-          throw std::runtime_error(fmt::format("particle id {} appears twice", recs[order[k]].id));
-        unpack_particle(recs[order[k]], all, k);
+        const std::size_t at = id_of(k) - min_id;
+        if (seen[at]) throw std::runtime_error(fmt::format("particle id {} appears twice", id_of(k)));
+        seen[at] = 1;
+        put(k, at);
       }
+      return;
     }
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>(k);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return id_of(a) < id_of(b); });
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k > 0 && id_of(order[k]) == id_of(order[k - 1]))
+        throw std::runtime_error(fmt::format("particle id {} appears twice", id_of(order[k])));
+      put(order[k], k);
+    }
+  };
+  if (!comm.distributed()) {
+    // One rank: copy straight into id order, no message records.
+    place(
+        p.n_local, [&](std::size_t k) { return p.id[k]; },
+        [&](std::size_t from, std::size_t to) { unpack_particle(pack_particle(p, from), all, to); });
+    return;
+  }
+  std::vector<MoveRecord> mine(p.n_local);
+  for (std::size_t i = 0; i < p.n_local; ++i) mine[i] = pack_particle(p, i);
+  const std::vector<std::byte> bytes = comm.gather(as_bytes_of(mine));
+  comm.on_root([&] {
+    const std::vector<MoveRecord> recs = records_from<MoveRecord>(bytes);
+    place(
+        recs.size(), [&](std::size_t k) { return recs[k].id; },
+        [&](std::size_t from, std::size_t to) { unpack_particle(recs[from], all, to); });
   });
+}
+
+ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected) {
+  ParticleData all;
+  gather_by_id(p, comm, expected, all);
   return all;
 }
 

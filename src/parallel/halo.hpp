@@ -65,5 +65,7 @@ class Halo {
 // Every rank's local particles, in increasing global id, on the root (empty elsewhere). Collective.
 // Checks that exactly `expected` particles with distinct ids exist (none lost or duplicated).
 ParticleData gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected);
+// The same into `all`, reusing its memory (for output that samples every step).
+void gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected, ParticleData& all);
 
 }  // namespace mesodpd
