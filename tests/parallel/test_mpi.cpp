@@ -40,9 +40,9 @@ struct Result {
 };
 
 // `mpirun -np N mesodpd ARGS` in `dir`. Ranks yield when idle, so more ranks than cores stay usable.
-Result mpirun(const fs::path& dir, int ranks, const std::string& args) {
-  const std::string cmd = "cd '" + dir.string() +
-                          "' && OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+Result mpirun(const fs::path& dir, int ranks, const std::string& args, int threads = 1) {
+  const std::string cmd = "cd '" + dir.string() + "' && OMP_NUM_THREADS=" + std::to_string(threads) +
+                          " OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
                           "OMPI_MCA_mpi_yield_when_idle=1 OMPI_MCA_rmaps_base_oversubscribe=1 timeout 300 '" +
                           std::string(MESODPD_MPIEXEC) + "' --oversubscribe -np " + std::to_string(ranks) + " '" +
                           mesodpd::test::mesodpd_bin() + "' " + args + " > mpi_stdout.txt 2> mpi_stderr.txt";
@@ -91,7 +91,7 @@ std::vector<std::vector<double>> thermo_rows(const fs::path& file) {
   return rows;
 }
 
-// Cells mode, 2,000 steps, on 1, 2 (2x1x1), 4 (2x2x1) and 8 (2x2x2) ranks: with 2x2x2 every face, edge
+// Cells mode, 2,000 steps, on 1, 2 (2x1x1), 4 (2x2x1) and 8 (2x2x2) ranks and 2 ranks x 2 threads: with 2x2x2 every face, edge
 // and corner of a domain is shared with another rank. Checkpoint (positions, velocities, forces, images in
 // id order), thermo.csv, trajectory and MSD must be byte-identical to the single-rank run.
 TEST(Mpi, TrajectoriesAreBitIdenticalOnOneTwoFourAndEightRanks) {
@@ -108,6 +108,13 @@ TEST(Mpi, TrajectoriesAreBitIdenticalOnOneTwoFourAndEightRanks) {
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find(std::to_string(c.ranks) + " rank(s)"), std::string::npos) << r.out;
   }
+  // Hybrid: 2 ranks with 2 OpenMP threads each.
+  write(dir / "hybrid.toml", fluid_config(grid_table(2, 1, 1) + kOutput));
+  const Result hybrid = mpirun(dir, 2, "run hybrid.toml --out hybrid", 2);
+  ASSERT_EQ(hybrid.code, 0) << hybrid.out << hybrid.err;
+  EXPECT_NE(hybrid.out.find("2 thread(s) per rank"), std::string::npos) << hybrid.out;
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+    EXPECT_EQ(read_all(dir / "hybrid" / file), read_all(dir / "r1" / file)) << file << " differs with 2 x 2 threads";
   // Without mpirun the program is a one-rank run too, and gives the same files.
   const std::string plain = "cd '" + dir.string() + "' && OMP_NUM_THREADS=2 timeout 300 '" +
                             mesodpd::test::mesodpd_bin() + "' run r1.toml --out plain > plain.txt 2>&1";
