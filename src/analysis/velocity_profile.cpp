@@ -77,17 +77,37 @@ PoiseuilleProfile::PoiseuilleProfile(std::size_t bins, int flow_axis, int gradie
   total_count_.assign(bins_, 0.0);
 }
 
+namespace {
+constexpr double kVelocityScale = 4294967296.0;  // 2^32 fixed-point units per velocity unit
+}
+
+void PoiseuilleProfile::bin(const double* pos_gradient_coord, const double* v_flow, std::size_t n, std::size_t bins,
+                            double box_len, std::int64_t* sums) {
+  const double inv_dz = static_cast<double>(bins) / box_len;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double w = pos_gradient_coord[i] - box_len * std::floor(pos_gradient_coord[i] / box_len);
+    const std::size_t b = std::min(static_cast<std::size_t>(w * inv_dz), bins - 1);
+    sums[b] += static_cast<std::int64_t>(std::llround(v_flow[i] * kVelocityScale));
+    sums[bins + b] += 1;
+  }
+}
+
 void PoiseuilleProfile::sample(const double* pos_gradient_coord, const double* v_flow, std::size_t n) {
+  std::vector<std::int64_t> sums(2 * bins_, 0);
+  bin(pos_gradient_coord, v_flow, n, bins_, len_, sums.data());
+  add_binned(sums.data());
+}
+
+void PoiseuilleProfile::add_binned(const std::int64_t* sums) {
   double* vsum = &block_vsum_[full_blocks_ * bins_];
   double* count = &block_count_[full_blocks_ * bins_];
-  const double inv_dz = static_cast<double>(bins_) / len_;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double w = pos_gradient_coord[i] - len_ * std::floor(pos_gradient_coord[i] / len_);
-    const std::size_t b = std::min(static_cast<std::size_t>(w * inv_dz), bins_ - 1);
-    vsum[b] += v_flow[i];
-    count[b] += 1.0;
-    total_vsum_[b] += v_flow[i];
-    total_count_[b] += 1.0;
+  for (std::size_t b = 0; b < bins_; ++b) {
+    const double v = static_cast<double>(sums[b]) / kVelocityScale;
+    const double c = static_cast<double>(sums[bins_ + b]);
+    vsum[b] += v;
+    count[b] += c;
+    total_vsum_[b] += v;
+    total_count_[b] += c;
   }
   ++samples_;
   if (++in_current_ < block_size_) return;

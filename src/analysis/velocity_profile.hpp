@@ -2,6 +2,7 @@
 #pragma once
 #include "io/byte_buffer.hpp"
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,13 @@ class PoiseuilleProfile {
 
   // Adds one snapshot: gradient coordinate (wrapped into [0, L) here) and flow velocity of n particles.
   void sample(const double* pos_gradient_coord, const double* v_flow, std::size_t n);
+
+  // The same in two parts, for particles spread over ranks: bin() accumulates a part of the snapshot
+  // into integer per-bin sums (2 x bins entries: fixed-point flow velocity, then counts), which do not
+  // depend on the order of the particles or of the parts; add_binned() adds the completed snapshot.
+  static void bin(const double* pos_gradient_coord, const double* v_flow, std::size_t n, std::size_t bins,
+                  double box_len, std::int64_t* sums);
+  void add_binned(const std::int64_t* sums);
 
   ViscosityFit fit() const;
 

@@ -144,6 +144,7 @@ class Observers {
   std::optional<ProgressReporter> progress_;
   std::vector<double> scratch_a_, scratch_b_, scratch_c_;
   ParticleData snapshot_;  // the whole system in id order (on the root), reused between samples
+  std::vector<std::int64_t> profile_bins_;  // one profile sample: fixed-point flow sums, then counts
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
 };
@@ -272,22 +273,31 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
   }
-  // The analyses see the whole system in id order (gathered on the root under MPI), so their sums are
+  // The velocity profile is summed in integers, so each rank bins its own particles. The other
+  // analyses see the whole system in id order (gathered on the root under MPI), so their sums are
   // taken in the same order whatever the rank count or storage order.
   const bool files = !opt_.out_dir.empty();
   const bool profile_due = files && s.poiseuille.enabled && step > s.poiseuille.start && step % s.poiseuille.every == 0;
+  if (profile_due) {
+    // Each rank bins its own particles into integer sums; only the per-bin totals travel.
+    const ParticleData& own = sim_.particles();
+    const auto& grad = s.poiseuille.gradient_axis == 0 ? own.x : (s.poiseuille.gradient_axis == 1 ? own.y : own.z);
+    const auto& flow = s.poiseuille.flow_axis == 0 ? own.vx : (s.poiseuille.flow_axis == 1 ? own.vy : own.vz);
+    const double len[3] = {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z};
+    const auto bins = static_cast<std::size_t>(s.poiseuille.bins);
+    profile_bins_.assign(2 * bins, 0);
+    PoiseuilleProfile::bin(grad.data(), flow.data(), own.n_local, bins, len[s.poiseuille.gradient_axis],
+                           profile_bins_.data());
+    comm().sum(std::span<std::int64_t>(profile_bins_));
+    if (comm().root()) profile_->add_binned(profile_bins_.data());
+  }
   const bool rdf_due = files && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
   const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
-  if (!(profile_due || rdf_due || msd_due || dump_due)) return;
+  if (!(rdf_due || msd_due || dump_due)) return;
   const ParticleData& p = gather();
   if (!comm().root()) return;
   const std::size_t n = p.n_local;
-  if (profile_due) {
-    const auto& grad = s.poiseuille.gradient_axis == 0 ? p.x : (s.poiseuille.gradient_axis == 1 ? p.y : p.z);
-    const auto& flow = s.poiseuille.flow_axis == 0 ? p.vx : (s.poiseuille.flow_axis == 1 ? p.vy : p.vz);
-    profile_->sample(grad.data(), flow.data(), n);
-  }
   if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z});
   if (msd_due) {
     scratch_a_.resize(n);
