@@ -82,8 +82,8 @@ int main(int argc, char** argv) {
         u.release, comm.size());
   print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, double precision, method={} skin={}\n", method,
              method == "verlet" ? skin : 0.0);
-  print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7}\n", "N", "ranks", "threads", "steps",
-        "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%");
+  print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
+        "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
   for (std::uint64_t n : sizes)
     for (int t : threads) {
       omp_set_num_threads(t);
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < warmup; ++k) sim.step();
       const auto b0 = sim.neighbor_list().builds();
       comm.barrier();
-      const double c0 = sim.halo().seconds();
+      const double c0 = sim.halo().seconds(), m0 = sim.halo().message_seconds();
       const auto t0 = std::chrono::steady_clock::now();
       for (int k = 0; k < steps; ++k) sim.step();
       comm.barrier();
@@ -101,16 +101,18 @@ int main(int argc, char** argv) {
       // includes waiting for slower neighbours) over the wall time.
       const double comm_secs =
           static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().seconds() - c0) * 1e9))) * 1e-9;
+      const double msg_secs =
+          static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().message_seconds() - m0) * 1e9))) * 1e-9;
       const double np = static_cast<double>(sim.total_particles());
       const double rate = np * steps / secs;
       const double local = static_cast<double>(sim.particles().n_local);
       const auto& g = sim.halo().decomposition().grid;
       // Peak RSS covers the whole process (all earlier runs too), so run the largest N last or alone.
       // Memory columns are the root rank's, per particle it owns.
-      print("{:>9} {:>5} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f} {:>9} {:>7.1f}\n",
+      print("{:>9} {:>5} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f} {:>9} {:>7.1f} {:>7.1f}\n",
             sim.total_particles(), comm.size(), t, steps, rate, 1e9 / rate, sim.neighbor_list().builds() - b0,
             proc_status_bytes("VmHWM:") / local, proc_status_bytes("VmRSS:") / local,
-            fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs);
+            fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs, 100.0 * msg_secs / secs);
       if (comm.root()) std::fflush(stdout);
     }
   return 0;

@@ -79,6 +79,11 @@ const std::vector<double>& coord_array(const ParticleData& p, int d) { return d 
 
 }  // namespace
 
+std::vector<std::byte> Halo::swap(int d, int dir, int tag_base, std::span<const std::byte> out) {
+  Stopwatch sw(message_seconds_);
+  return comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(tag_base, d, dir), out);
+}
+
 CellDomain Halo::cell_domain() const {
   CellDomain c;
   for (std::size_t d = 0; d < 3; ++d) {
@@ -137,7 +142,7 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
       std::vector<MoveRecord> in[2];
       for (int dir = 0; dir < 2; ++dir)
         in[dir] = records_from<MoveRecord>(
-            comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(100, d, dir), as_bytes_of(out[dir])));
+            swap(d, dir, 100, as_bytes_of(out[dir])));
       // Fill the holes from the end (the storage order is rebuilt by the cell sort that follows).
       std::size_t end = p.n_local;
       for (auto it = leaving.rbegin(); it != leaving.rend(); ++it) {
@@ -160,7 +165,10 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
           break;
         }
     std::uint64_t counts[1] = {foreign};
-    comm_.sum(std::span<std::uint64_t>(counts));
+    {
+      Stopwatch message(message_seconds_);
+      comm_.sum(std::span<std::uint64_t>(counts));
+    }
     if (counts[0] == 0) return;
     if (pass + 1 >= max_passes)
       throw std::runtime_error(fmt::format("halo: {} particles still on the wrong rank after {} migration passes",
@@ -215,7 +223,7 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector
     }
     for (int dir = 0; dir < 2; ++dir) {
       std::vector<GhostRecord> in = records_from<GhostRecord>(
-          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(200, d, dir), as_bytes_of(out[dir])));
+          swap(d, dir, 200, as_bytes_of(out[dir])));
       recv_begin_[u][static_cast<std::size_t>(dir)] = n_local_ + ghosts.size();
       recv_count_[u][static_cast<std::size_t>(dir)] = in.size();
       // What the neighbour above sent (its lowest layer) is this rank's upper ghost layer, and vice versa.
@@ -278,7 +286,7 @@ void Halo::update_ghosts(ParticleData& p) {
         o[5] = p.vz[s];
       }
       const std::vector<double> in = records_from<double>(
-          comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(300, d, dir), as_bytes_of(out)));
+          swap(d, dir, 300, as_bytes_of(out)));
       const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
       if (in.size() != 6 * m) throw std::runtime_error("halo: ghost refresh size mismatch");
       for (std::size_t k = 0; k < m; ++k) {
@@ -310,7 +318,7 @@ void Halo::reverse_forces(std::int64_t* f3, const ParticleData& p) {
       }
       // Back along the way the ghosts came: to the rank they were received from.
       const std::vector<std::int64_t> in = records_from<std::int64_t>(
-          comm_.exchange(dec_.neighbor(d, 1 - dir), dec_.neighbor(d, dir), tag(400, d, dir), as_bytes_of(out)));
+          swap(d, 1 - dir, 400, as_bytes_of(out)));
       const auto& list = send_[u][static_cast<std::size_t>(dir)];
       if (in.size() != 3 * list.size()) throw std::runtime_error("halo: reverse force size mismatch");
       for (std::size_t k = 0; k < list.size(); ++k) {

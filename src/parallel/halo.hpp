@@ -43,11 +43,16 @@ class Halo {
   // their owners' entries. Integer sums: the result does not depend on the order of arrival.
   void reverse_forces(std::int64_t* f3, const ParticleData& p);
 
-  // Seconds spent communicating (migration, ghosts, reverse forces) since construction.
+  // Seconds spent in migration, ghost construction and refresh and reverse forces since construction
+  // (packing, sorting and messages), and the part of it spent in message calls (transfer plus waiting
+  // for the neighbour to get there).
   double seconds() const { return seconds_; }
+  double message_seconds() const { return message_seconds_; }
   std::uint64_t ghosts_built() const { return ghosts_built_; }
 
  private:
+  // Sends `out` to the neighbour on side `dir` of axis d and receives from the other side.
+  std::vector<std::byte> swap(int d, int dir, int tag_base, std::span<const std::byte> out);
   std::size_t storage_of(std::size_t arrival) const {
     return arrival < n_local_ ? arrival : slot_[arrival - n_local_];
   }
@@ -59,6 +64,7 @@ class Halo {
   std::array<std::array<std::size_t, 2>, 3> recv_begin_{}, recv_count_{};  // arrival ranges received
   std::vector<std::uint32_t> slot_;         // ghost arrival order -> storage index
   double seconds_ = 0;
+  double message_seconds_ = 0;
   std::uint64_t ghosts_built_ = 0;
 };
 
