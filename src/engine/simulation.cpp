@@ -548,7 +548,7 @@ void Simulation::check_particle_count() const {
   std::uint64_t culprit = std::numeric_limits<std::uint64_t>::max();
   if (comm.root()) {
     std::vector<std::uint32_t> ids(bytes.size() / sizeof(std::uint32_t));
-    std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(std::uint32_t));
+    if (!ids.empty()) std::memcpy(ids.data(), bytes.data(), ids.size() * sizeof(std::uint32_t));
     std::sort(ids.begin(), ids.end());
     for (std::size_t k = 1; k < ids.size() && culprit == std::numeric_limits<std::uint64_t>::max(); ++k)
       if (ids[k] == ids[k - 1]) culprit = ids[k];

@@ -199,7 +199,7 @@ void Comm::broadcast(std::vector<std::byte>& bytes) const {
 void Comm::broadcast(std::string& text) const {
   if (size_ == 1) return;
   std::vector<std::byte> b(text.size());
-  std::memcpy(b.data(), text.data(), text.size());
+  if (!text.empty()) std::memcpy(b.data(), text.data(), text.size());
   broadcast(b);
   text.assign(reinterpret_cast<const char*>(b.data()), b.size());
 }
