@@ -2,6 +2,9 @@
 #pragma once
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "mesodpd/spec.hpp"
@@ -30,6 +33,14 @@ inline SimulationSpec fluid_spec(double lx, double ly, double lz, double rho, do
   spec.thermo_every = 10;
   spec.progress = false;
   return spec;
+}
+
+// The whole content of a file (empty if it cannot be read).
+inline std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 // The mesodpd program and the source tree, fixed at configure time (tests/CMakeLists.txt).

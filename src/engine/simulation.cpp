@@ -155,9 +155,12 @@ Observers::Observers(const Simulation& sim, const RunOptions& opt, bool restarte
   if (opt_.out_dir.empty()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
-    // The fluid's mass density, summed in id order so that it is the same on any rank count.
-    const ParticleData& all = gather();
-    for (std::size_t i = 0; i < all.n_local; ++i) mass += s.species[static_cast<std::size_t>(all.species[i])].mass;
+    // The fluid's mass: integer counts per species (exact over ranks) times the species masses.
+    std::vector<std::uint64_t> count(s.species.size(), 0);
+    const ParticleData& own = sim.particles();
+    for (std::size_t i = 0; i < own.n_local; ++i) ++count[static_cast<std::size_t>(own.species[i])];
+    comm().sum(std::span<std::uint64_t>(count));
+    for (std::size_t k = 0; k < count.size(); ++k) mass += static_cast<double>(count[k]) * s.species[k].mass;
   }
   // Files belong to the root; an error there stops every rank.
   comm().on_root([&] {
@@ -497,7 +500,7 @@ void Simulation::step() {
 
 void Simulation::check_health() const {
   const std::size_t n = p_.n_local;
-  if (halo_.comm().distributed()) check_particle_count();
+  if (halo_.active() && halo_.total_after_migration() != n_total_) report_lost_particle();
   const double vmax2 = spec_.max_velocity * spec_.max_velocity;
   auto unhealthy = [&](std::size_t i) {
     const double v2 = p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i];
@@ -537,11 +540,10 @@ void Simulation::check_health() const {
                                 step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity));
 }
 
-void Simulation::check_particle_count() const {
+void Simulation::report_lost_particle() const {
+  // Every rank sees the same total (it came from an all-reduce), so all of them get here together.
   const Comm& comm = halo_.comm();
-  std::uint64_t count[1] = {p_.n_local};
-  comm.sum(std::span<std::uint64_t>(count));
-  if (count[0] == n_total_) return;
+  const std::uint64_t count = halo_.total_after_migration();
   // Name the smallest id that is missing or held twice.
   std::vector<std::uint32_t> mine(p_.id.begin(), p_.id.begin() + static_cast<std::ptrdiff_t>(p_.n_local));
   const std::vector<std::byte> bytes = comm.gather(std::as_bytes(std::span<const std::uint32_t>(mine)));
@@ -559,7 +561,7 @@ void Simulation::check_particle_count() const {
   throw BlowUpError(step_, static_cast<std::uint32_t>(culprit),
                     fmt::format("particle lost or duplicated at step {}: {} particles on {} ranks, {} expected (first "
                                 "affected id {}); this is a bug in the domain decomposition, please report it",
-                                step_, count[0], comm.size(), n_total_, culprit));
+                                step_, count, comm.size(), n_total_, culprit));
 }
 
 ThermoState Simulation::thermo() {

@@ -83,7 +83,7 @@ class Simulation {
  private:
   void compute_forces(bool with_sums);
   void check_health() const;
-  void check_particle_count() const;  // collective: no particle lost or duplicated across ranks
+  [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
   void load_checkpoint(const std::filesystem::path& file);
 
   SimulationSpec spec_;

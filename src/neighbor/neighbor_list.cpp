@@ -10,22 +10,21 @@ namespace mesodpd {
 
 bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box, const Halo* halo) const {
   if (settings_.skin <= 0.0) return true;
-  const bool distributed = halo != nullptr && halo->comm().distributed();
-  if (!distributed && (builds_ == 0 || x0_.size() != p.n_local)) return true;
-  if (builds_ == 0 || x0_.size() != p.n_local) return halo->comm().max(1) != 0;
-  const double limit2 = 0.25 * settings_.skin * settings_.skin;
-  const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
-  const std::size_t n = p.n_local;
-  int moved = 0;
+  int moved = (builds_ == 0 || x0_.size() != p.n_local) ? 1 : 0;
+  if (!moved) {
+    const double limit2 = 0.25 * settings_.skin * settings_.skin;
+    const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
+    const std::size_t n = p.n_local;
 #pragma omp parallel for reduction(| : moved) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, hlx);
-    const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, hly);
-    const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
-    moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, hlx);
+      const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, hly);
+      const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
+      moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
+    }
   }
   // Every rank rebuilds together: the ghosts and the migration are collective.
-  if (distributed) return halo->comm().max(static_cast<std::uint64_t>(moved)) != 0;
+  if (halo != nullptr && halo->comm().distributed()) return halo->comm().max(static_cast<std::uint64_t>(moved)) != 0;
   return moved != 0;
 }
 

@@ -14,14 +14,6 @@
 
 namespace mesodpd {
 
-bool built_with_mpi() {
-#ifdef MESODPD_HAVE_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 Comm Comm::world() {
   Comm c;
 #ifdef MESODPD_HAVE_MPI
@@ -54,65 +46,52 @@ __extension__ void sum_int128(void* in, void* inout, int* len, MPI_Datatype*) {
 }  // namespace
 #endif
 
-void Comm::sum(std::span<std::int64_t> v) const {
+// Every reduction goes through here: in place over all ranks, nothing to do on one rank. The MPI
+// type and operation are named by small codes so that the header needs no <mpi.h>.
+void Comm::allreduce(void* data, std::size_t count, ReduceType type, ReduceOp op) const {
 #ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1 && !v.empty())
-    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
-          "Allreduce");
-#else
-  (void)v;
-#endif
-}
-
-void Comm::sum(std::span<std::uint64_t> v) const {
-#ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1 && !v.empty())
-    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD),
-          "Allreduce");
-#else
-  (void)v;
-#endif
-}
-
-void Comm::sum(std::span<double> v) const {
-#ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1 && !v.empty())
-    check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD),
-          "Allreduce");
-#else
-  (void)v;
-#endif
-}
-
-__extension__ void Comm::sum(std::span<__int128> v) const {
-#ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1 && !v.empty()) {
-    MPI_Datatype type;
-    MPI_Op op;
-    check(MPI_Type_contiguous(16, MPI_BYTE, &type), "Type_contiguous");
-    MPI_Type_commit(&type);
-    MPI_Op_create(&sum_int128, 1, &op);
-    const int rc = MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), type, op, MPI_COMM_WORLD);
-    MPI_Op_free(&op);
-    MPI_Type_free(&type);
-    check(rc, "Allreduce");
+  if (!mpi_ || size_ < 2 || count == 0) return;
+  MPI_Datatype dtype = MPI_INT64_T;
+  MPI_Op mop = op == ReduceOp::Sum ? MPI_SUM : (op == ReduceOp::Min ? MPI_MIN : MPI_MAX);
+  bool custom = false;
+  switch (type) {
+    case ReduceType::Int64: dtype = MPI_INT64_T; break;
+    case ReduceType::Uint64: dtype = MPI_UINT64_T; break;
+    case ReduceType::Double: dtype = MPI_DOUBLE; break;
+    case ReduceType::Int128:
+      // MPI has no 128-bit integer: a 16-byte type with a user-defined sum.
+      check(MPI_Type_contiguous(16, MPI_BYTE, &dtype), "Type_contiguous");
+      MPI_Type_commit(&dtype);
+      MPI_Op_create(&sum_int128, 1, &mop);
+      custom = true;
+      break;
   }
+  const int rc = MPI_Allreduce(MPI_IN_PLACE, data, static_cast<int>(count), dtype, mop, MPI_COMM_WORLD);
+  if (custom) {
+    MPI_Op_free(&mop);
+    MPI_Type_free(&dtype);
+  }
+  check(rc, "Allreduce");
 #else
-  (void)v;
+  (void)data;
+  (void)count;
+  (void)type;
+  (void)op;
 #endif
 }
 
+void Comm::sum(std::span<std::int64_t> v) const { allreduce(v.data(), v.size(), ReduceType::Int64, ReduceOp::Sum); }
+void Comm::sum(std::span<std::uint64_t> v) const { allreduce(v.data(), v.size(), ReduceType::Uint64, ReduceOp::Sum); }
+void Comm::sum(std::span<double> v) const { allreduce(v.data(), v.size(), ReduceType::Double, ReduceOp::Sum); }
+__extension__ void Comm::sum(std::span<__int128> v) const {
+  allreduce(v.data(), v.size(), ReduceType::Int128, ReduceOp::Sum);
+}
 std::uint64_t Comm::min(std::uint64_t v) const {
-#ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD), "Allreduce");
-#endif
+  allreduce(&v, 1, ReduceType::Uint64, ReduceOp::Min);
   return v;
 }
-
 std::uint64_t Comm::max(std::uint64_t v) const {
-#ifdef MESODPD_HAVE_MPI
-  if (mpi_ && size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD), "Allreduce");
-#endif
+  allreduce(&v, 1, ReduceType::Uint64, ReduceOp::Max);
   return v;
 }
 

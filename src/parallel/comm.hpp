@@ -58,7 +58,10 @@ class Comm {
   [[noreturn]] void abort(int code) const;
 
  private:
+  enum class ReduceType { Int64, Uint64, Double, Int128 };
+  enum class ReduceOp { Sum, Min, Max };
   Comm() = default;
+  void allreduce(void* data, std::size_t count, ReduceType type, ReduceOp op) const;
   void raise_if_any(std::string error) const;
 
   int rank_ = 0;
@@ -75,8 +78,5 @@ class MpiSession {
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
 };
-
-// True when this build links MPI.
-bool built_with_mpi();
 
 }  // namespace mesodpd

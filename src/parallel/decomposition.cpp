@@ -110,7 +110,6 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
         all_given || requested == std::array<int, 3>{0, 0, 0} ? "" : fmt::format(" with grid {}", format_grid(requested))));
   }
   best.cells = cells;
-  best.rank = rank;
   best.coord = {rank % best.grid[0], (rank / best.grid[0]) % best.grid[1], rank / (best.grid[0] * best.grid[1])};
   for (int d = 0; d < 3; ++d) {
     const auto u = static_cast<std::size_t>(d);

@@ -14,11 +14,9 @@ struct Decomposition {
   std::array<int, 3> cells{1, 1, 1};       // global cells along x, y, z
   std::array<int, 3> cell_lo{0, 0, 0};     // first cell this rank owns along each axis
   std::array<int, 3> cell_count{1, 1, 1};  // cells this rank owns along each axis
-  int rank = 0;
 
   bool decomposed(int d) const { return grid[static_cast<std::size_t>(d)] > 1; }
   bool any_decomposed() const { return grid[0] > 1 || grid[1] > 1 || grid[2] > 1; }
-  int size() const { return grid[0] * grid[1] * grid[2]; }
   // Rank at grid position c (periodic).
   int rank_at(std::array<int, 3> c) const;
   // Neighbour rank along axis d: dir = 0 below, 1 above (periodic).

@@ -164,11 +164,13 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
           ++foreign;
           break;
         }
-    std::uint64_t counts[1] = {foreign};
+    // The same reduction counts the particles of all ranks, for the lost-particle check.
+    std::uint64_t counts[2] = {foreign, p.n_local};
     {
       Stopwatch message(message_seconds_);
       comm_.sum(std::span<std::uint64_t>(counts));
     }
+    total_after_migration_ = counts[1];
     if (counts[0] == 0) return;
     if (pass + 1 >= max_passes)
       throw std::runtime_error(fmt::format("halo: {} particles still on the wrong rank after {} migration passes",
@@ -263,7 +265,6 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector
     p.id[s] = r.id;
     p.species[s] = r.species;
   }
-  ghosts_built_ += ng;
 }
 
 void Halo::update_ghosts(ParticleData& p) {

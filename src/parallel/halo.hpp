@@ -43,12 +43,15 @@ class Halo {
   // their owners' entries. Integer sums: the result does not depend on the order of arrival.
   void reverse_forces(std::int64_t* f3, const ParticleData& p);
 
+  // Particles on all ranks after the last migration (0 before the first): particles change ranks
+  // only there, so comparing it with the expected total finds a lost or duplicated one.
+  std::uint64_t total_after_migration() const { return total_after_migration_; }
+
   // Seconds spent in migration, ghost construction and refresh and reverse forces since construction
   // (packing, sorting and messages), and the part of it spent in message calls (transfer plus waiting
   // for the neighbour to get there).
   double seconds() const { return seconds_; }
   double message_seconds() const { return message_seconds_; }
-  std::uint64_t ghosts_built() const { return ghosts_built_; }
 
  private:
   // Sends `out` to the neighbour on side `dir` of axis d and receives from the other side.
@@ -65,7 +68,7 @@ class Halo {
   std::vector<std::uint32_t> slot_;         // ghost arrival order -> storage index
   double seconds_ = 0;
   double message_seconds_ = 0;
-  std::uint64_t ghosts_built_ = 0;
+  std::uint64_t total_after_migration_ = 0;
 };
 
 // Every rank's local particles, in increasing global id, on the root (empty elsewhere). Collective.
