@@ -63,6 +63,11 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
                                   format_grid(requested), fixed, nranks));
   if (nranks > 1)
     for (std::size_t d = 0; d < 3; ++d)
+      if (cells[d] > 32000)  // ghost records carry 16-bit cell coordinates
+        throw ConfigError(fmt::format("system.box: {} cells along {} exceed the 32,000 a decomposed run supports",
+                                      cells[d], axes[d]));
+  if (nranks > 1)
+    for (std::size_t d = 0; d < 3; ++d)
       if (cells[d] < 3)
         throw ConfigError(fmt::format(
             "system.box: under MPI every box length must hold at least 3 cells of width {:.4g} (largest cutoff + "

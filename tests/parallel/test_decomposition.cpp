@@ -56,6 +56,7 @@ TEST(Decomposition, RefusesDomainsThinnerThanTheGhostWidth) {
   EXPECT_THROW(Decomposition::make(3, 0, {6, 6, 6}, {8, 8, 8}, {0, 0, 2}, 1.3), ConfigError);  // 2 does not divide 3
   EXPECT_THROW(Decomposition::make(64, 0, {3, 3, 3}, {3, 3, 3}, {0, 0, 0}, 1.0), ConfigError);  // no grid fits
   EXPECT_THROW(Decomposition::make(2, 0, {2, 8, 8}, {2, 8, 8}, {0, 0, 0}, 1.0), ConfigError);   // < 3 cells
+  EXPECT_THROW(Decomposition::make(2, 0, {40000, 8, 8}, {40000, 8, 8}, {0, 0, 0}, 1.0), ConfigError);  // 16-bit cells
 }
 
 // Every (cell, neighbour cell, wrap) triple the half stencils produce, in global cell coordinates.
