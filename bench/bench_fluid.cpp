@@ -80,8 +80,13 @@ int main(int argc, char** argv) {
   uname(&u);
   print("# machine: {} ({} logical CPUs), {} {}, {} MPI rank(s)\n", cpu_model(), omp_get_num_procs(), u.sysname,
         u.release, comm.size());
-  print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, double precision, method={} skin={}\n", method,
-             method == "verlet" ? skin : 0.0);
+#ifdef MESODPD_SINGLE_PRECISION
+  constexpr const char* kPrecision = "single-precision pair arithmetic (MESODPD_SINGLE)";
+#else
+  constexpr const char* kPrecision = "double precision";
+#endif
+  print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
+        method == "verlet" ? skin : 0.0);
   print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
         "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
   for (std::uint64_t n : sizes)

@@ -26,7 +26,12 @@ constexpr double kFilterMargin = 1e-10;
 struct PairBatch {
   static constexpr std::size_t kCapacity = 1024;
   std::size_t m = 0;
-  alignas(64) std::uint32_t i[kCapacity];
+  alignas(64) std::uint32_t i[kCapacity + 16];  // + one vector: broadcast stores may run past m
+  // Copies of particle i's position, velocity and id for every pair, written a vector at a time when
+  // the pairs of one i are appended, so the passes read them contiguously instead of gathering.
+  alignas(64) double ix[kCapacity + 8], iy[kCapacity + 8], iz[kCapacity + 8];
+  alignas(64) double ivx[kCapacity + 8], ivy[kCapacity + 8], ivz[kCapacity + 8];
+  alignas(64) std::uint32_t iid[kCapacity + 16];
   alignas(64) std::uint32_t j[kCapacity + 16];  // + one vector: compressed stores may run past m
   alignas(64) PairReal dx[kCapacity];
   alignas(64) PairReal dy[kCapacity];
@@ -42,6 +47,12 @@ struct PairBatch {
   std::vector<PairReal> cand_x, cand_y, cand_z;  // candidates of the current cell, nearest-image coordinates
   std::vector<std::uint32_t> cand_j;
 };
+
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+// Stores 8 doubles as the candidate arrays' type.
+inline void store8(double* dst, __m512d v) { _mm512_storeu_pd(dst, v); }
+inline void store8(float* dst, __m512d v) { _mm256_storeu_ps(dst, _mm512_maskz_cvtpd_ps(0xFF, v)); }
+#endif
 
 ForceCompute::ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {
   weight_kind_ = table_.params.empty() ? WeightKind::General : weight_kind_of(table_.params[0].s);
@@ -121,10 +132,10 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       const std::size_t m = b.m;
       // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
       for (std::size_t k = 0; k < m; ++k) {
-        const std::uint32_t i = b.i[k], j = b.j[k];
-        const PairReal dx = static_cast<PairReal>(minimum_image(x[i] - x[j], lx, hlx));
-        const PairReal dy = static_cast<PairReal>(minimum_image(y[i] - y[j], ly, hly));
-        const PairReal dz = static_cast<PairReal>(minimum_image(z[i] - z[j], lz, hlz));
+        const std::uint32_t j = b.j[k];
+        const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], lx, hlx));
+        const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ly, hly));
+        const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], lz, hlz));
         const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
         const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
         b.dx[k] = dx;
@@ -132,40 +143,48 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
         b.dz[k] = dz;
         b.r[k] = r;
         b.inv_r[k] = inv_r;
-        b.rv[k] = (dx * static_cast<PairReal>(vx[i] - vx[j]) + dy * static_cast<PairReal>(vy[i] - vy[j]) +
-                   dz * static_cast<PairReal>(vz[i] - vz[j])) *
+        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
+                   dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
                   inv_r;
       }
       // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
       if (kind == NoiseKind::Uniform) {
         for (std::size_t k = 0; k < m; ++k)
-          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Uniform));
+          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
       } else {
         for (std::size_t k = 0; k < m; ++k)
-          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, id[b.i[k]], id[b.j[k]], NoiseKind::Gaussian));
+          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
       }
-      // Pass 3: the force law and the fixed-point conversion.
-      for (std::size_t k = 0; k < m; ++k) {
-        const DpdPairParamsT<PairReal>& pp = ns == 1 ? params[0] : params[sp[b.i[k]] * ns + sp[b.j[k]]];
-        const DpdPairForceT<PairReal> f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt_r);
-        const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
-        const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
-        b.qx[k] = to_fixed(fx, kForceScale);
-        b.qy[k] = to_fixed(fy, kForceScale);
-        b.qz[k] = to_fixed(fz, kForceScale);
-        if constexpr (kSums) {
-          const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
-          local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
-          local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
-          local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
-          local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
-          local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
-          local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
-          local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
-          local[7] += to_fixed(f.energy, kVirialScale);
-          local[8] += in_range ? 1 : 0;
+      // Pass 3: the force law and the fixed-point conversion. One species pair: its parameters are
+      // loop constants (no per-pair lookup, which would make the vectorised loop gather them).
+      auto pass3 = [&]<bool kOne>() {
+        const DpdPairParamsT<PairReal> p0 = params[0];
+        for (std::size_t k = 0; k < m; ++k) {
+          const DpdPairParamsT<PairReal>& pp = kOne ? p0 : params[sp[b.i[k]] * ns + sp[b.j[k]]];
+          const DpdPairForceT<PairReal> f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt_r);
+          const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
+          const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
+          b.qx[k] = to_fixed(fx, kForceScale);
+          b.qy[k] = to_fixed(fy, kForceScale);
+          b.qz[k] = to_fixed(fz, kForceScale);
+          if constexpr (kSums) {
+            const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
+            local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
+            local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
+            local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
+            local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
+            local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
+            local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
+            local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
+            local[7] += to_fixed(f.energy, kVirialScale);
+            local[8] += in_range ? 1 : 0;
+          }
         }
-      }
+      };
+      if (ns == 1)
+        pass3.template operator()<true>();
+      else
+        pass3.template operator()<false>();
       // Pass 4: scatter (integer adds: the order does not matter).
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t i = b.i[k], j = b.j[k];
@@ -178,52 +197,96 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       }
       b.m = 0;
     };
+    // Marks batch entries [m0, m) as pairs of particle i (see PairBatch::ix).
+    auto spread_i = [&](std::uint32_t i, std::size_t m0, std::size_t m) {
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+      const __m512d px = _mm512_set1_pd(x[i]), py = _mm512_set1_pd(y[i]), pz = _mm512_set1_pd(z[i]);
+      const __m512d pvx = _mm512_set1_pd(vx[i]), pvy = _mm512_set1_pd(vy[i]), pvz = _mm512_set1_pd(vz[i]);
+      const __m256i pi = _mm256_set1_epi32(static_cast<int>(i)), pid = _mm256_set1_epi32(static_cast<int>(id[i]));
+      for (std::size_t k = m0; k < m; k += 8) {
+        _mm512_storeu_pd(b.ix + k, px);
+        _mm512_storeu_pd(b.iy + k, py);
+        _mm512_storeu_pd(b.iz + k, pz);
+        _mm512_storeu_pd(b.ivx + k, pvx);
+        _mm512_storeu_pd(b.ivy + k, pvy);
+        _mm512_storeu_pd(b.ivz + k, pvz);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.i + k), pi);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.iid + k), pid);
+      }
+#else
+      for (std::size_t k = m0; k < m; ++k) {
+        b.ix[k] = x[i];
+        b.iy[k] = y[i];
+        b.iz[k] = z[i];
+        b.ivx[k] = vx[i];
+        b.ivy[k] = vy[i];
+        b.ivz[k] = vz[i];
+        b.i[k] = i;
+        b.iid[k] = id[i];
+      }
+#endif
+    };
     // Distance filter of particle i against candidates [k0, k1) of the cell's candidate arrays, which
     // hold nearest-image coordinates. Survivors are appended to the batch without branches.
-    auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1) {
+    auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1, double ox, double oy, double oz) {
       constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
-      const PairReal xi = static_cast<PairReal>(x[i]), yi = static_cast<PairReal>(y[i]), zi = static_cast<PairReal>(z[i]);
+      const PairReal xi = static_cast<PairReal>(x[i] - ox), yi = static_cast<PairReal>(y[i] - oy),
+                     zi = static_cast<PairReal>(z[i] - oz);
       for (std::size_t a = k0; a < k1; a += kChunk) {
         const std::size_t cnt = std::min(k1, a + kChunk) - a;
         const PairReal* __restrict cx = b.cand_x.data() + a;
         const PairReal* __restrict cy = b.cand_y.data() + a;
         const PairReal* __restrict cz = b.cand_z.data() + a;
         const std::uint32_t* __restrict cj = b.cand_j.data() + a;
-        PairReal* __restrict r2 = b.r2;
-        for (std::size_t k = 0; k < cnt; ++k) {
-          const PairReal dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
-          r2[k] = dx * dx + dy * dy + dz * dz;
-        }
         if (b.m + cnt > PairBatch::kCapacity) flush();
         const std::size_t m0 = b.m;
         std::size_t m = m0;
-        std::size_t k = 0;
 #if defined(__AVX512F__) && defined(__AVX512VL__)
-        // Survivors packed with an in-register compress and a plain store: one vector of candidates per
-        // step instead of one candidate (the memory form of vpcompress is slow on some cores).
+        // One vector of candidates per step: squared distance, compare, and the survivors' indices packed
+        // with an in-register compress and a plain store (the memory form of vpcompress is slow on some
+        // cores). The last, partial vector is masked, so there is no scalar tail. The filter only selects
+        // (a superset of the pairs in range, see filter2), so its rounding may differ from pass 1's.
         if constexpr (std::is_same_v<PairReal, double>) {
           const __m512d lim = _mm512_set1_pd(filter2);
-          for (; k + 8 <= cnt; k += 8) {
-            const __mmask8 keep = _mm512_cmp_pd_mask(_mm512_loadu_pd(r2 + k), lim, _CMP_LT_OQ);
-            const __m256i js = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cj + k));
+          const __m512d vx = _mm512_set1_pd(xi), vy = _mm512_set1_pd(yi), vz = _mm512_set1_pd(zi);
+          for (std::size_t k = 0; k < cnt; k += 8) {
+            const __mmask8 valid = cnt - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (cnt - k)) - 1u);
+            const __m512d dx = _mm512_sub_pd(vx, _mm512_maskz_loadu_pd(valid, cx + k));
+            const __m512d dy = _mm512_sub_pd(vy, _mm512_maskz_loadu_pd(valid, cy + k));
+            const __m512d dz = _mm512_sub_pd(vz, _mm512_maskz_loadu_pd(valid, cz + k));
+            const __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+            const __mmask8 keep = _mm512_mask_cmp_pd_mask(valid, r2, lim, _CMP_LT_OQ);
+            const __m256i js = _mm256_maskz_loadu_epi32(valid, cj + k);
             _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.j + m), _mm256_maskz_compress_epi32(keep, js));
             m += static_cast<std::size_t>(__builtin_popcount(keep));
           }
         } else {
           const __m512 lim = _mm512_set1_ps(filter2);
-          for (; k + 16 <= cnt; k += 16) {
-            const __mmask16 keep = _mm512_cmp_ps_mask(_mm512_loadu_ps(r2 + k), lim, _CMP_LT_OQ);
-            const __m512i js = _mm512_loadu_si512(cj + k);
+          const __m512 vx = _mm512_set1_ps(xi), vy = _mm512_set1_ps(yi), vz = _mm512_set1_ps(zi);
+          for (std::size_t k = 0; k < cnt; k += 16) {
+            const __mmask16 valid = cnt - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (cnt - k)) - 1u);
+            const __m512 dx = _mm512_sub_ps(vx, _mm512_maskz_loadu_ps(valid, cx + k));
+            const __m512 dy = _mm512_sub_ps(vy, _mm512_maskz_loadu_ps(valid, cy + k));
+            const __m512 dz = _mm512_sub_ps(vz, _mm512_maskz_loadu_ps(valid, cz + k));
+            const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+            const __mmask16 keep = _mm512_mask_cmp_ps_mask(valid, r2, lim, _CMP_LT_OQ);
+            const __m512i js = _mm512_maskz_loadu_epi32(valid, cj + k);
             _mm512_storeu_si512(b.j + m, _mm512_maskz_compress_epi32(keep, js));
             m += static_cast<std::size_t>(__builtin_popcount(keep));
           }
         }
-#endif
-        for (; k < cnt; ++k) {
+#else
+        PairReal* __restrict r2 = b.r2;
+        for (std::size_t k = 0; k < cnt; ++k) {
+          const PairReal dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
+          r2[k] = dx * dx + dy * dy + dz * dz;
+        }
+        for (std::size_t k = 0; k < cnt; ++k) {
           b.j[m] = cj[k];
           m += r2[k] < filter2 ? 1 : 0;
         }
-        for (std::size_t k = m0; k < m; ++k) b.i[k] = i;
+#endif
+        spread_i(i, m0, m);
         b.m = m;
       }
     };
@@ -242,35 +305,61 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
         const int nr = grid.half_runs(static_cast<int>(c), runs);
         std::size_t total = 0;
         for (int r = 0; r < nr; ++r) total += start[runs[r].last + 1] - start[runs[r].first];
-        if (b.cand_x.size() < total) {
-          b.cand_x.resize(2 * total);
-          b.cand_y.resize(2 * total);
-          b.cand_z.resize(2 * total);
-          b.cand_j.resize(2 * total);
+        if (b.cand_x.size() < total + 8) {  // + one vector of slack for the vector stores
+          b.cand_x.resize(2 * total + 8);
+          b.cand_y.resize(2 * total + 8);
+          b.cand_z.resize(2 * total + 8);
+          b.cand_j.resize(2 * total + 8);
         }
+        // Candidate coordinates are taken relative to a particle of the cell, so that they are small
+        // numbers whose float rounding (single-precision build) stays far below the filter's margin
+        // however large the box.
+        const double ox = x[start[c]], oy = y[start[c]], oz = z[start[c]];
         std::size_t mc = 0;
         for (int r = 0; r < nr; ++r) {
           const CellRun& e = runs[r];
-          const double sx = e.wx * lx, sy = e.wy * ly, sz = e.wz * lz;
-          for (std::uint32_t j = start[e.first]; j < start[e.last + 1]; ++j, ++mc) {
+          const double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
+          const std::uint32_t j0 = start[e.first], j1 = start[e.last + 1];
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+          // A vector at a time: masked loads of the (short) run, plain stores into the slack-padded arrays.
+          const __m512d vsx = _mm512_set1_pd(sx), vsy = _mm512_set1_pd(sy), vsz = _mm512_set1_pd(sz);
+          const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+          for (std::uint32_t j = j0; j < j1; j += 8, mc += 8) {
+            const __mmask8 valid = j1 - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (j1 - j)) - 1u);
+            const __m512d cx = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, x + j), vsx);
+            const __m512d cy = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, y + j), vsy);
+            const __m512d cz = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, z + j), vsz);
+            store8(b.cand_x.data() + mc, cx);
+            store8(b.cand_y.data() + mc, cy);
+            store8(b.cand_z.data() + mc, cz);
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.cand_j.data() + mc),
+                                _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), iota));
+          }
+          mc -= (8 - (j1 - j0) % 8) % 8;  // back to the end of the run
+#else
+          for (std::uint32_t j = j0; j < j1; ++j, ++mc) {
             b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
             b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
             b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
             b.cand_j[mc] = j;
           }
+#endif
         }
-        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc);
+        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc, ox, oy, oz);
       }
     } else {
       const std::uint32_t* off = list.offsets().data();
       const std::uint32_t* nbr = list.neighbors().data();
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
-        for (std::uint32_t k = off[i]; k < off[i + 1]; ++k) {
+        for (std::uint32_t k = off[i]; k < off[i + 1];) {
           if (b.m == PairBatch::kCapacity) flush();
-          b.i[b.m] = static_cast<std::uint32_t>(i);
-          b.j[b.m] = nbr[k];
-          ++b.m;
+          const std::size_t m0 = b.m;
+          const std::size_t take = std::min<std::size_t>(off[i + 1] - k, PairBatch::kCapacity - m0);
+          for (std::size_t t = 0; t < take; ++t) b.j[m0 + t] = nbr[k + t];
+          k += static_cast<std::uint32_t>(take);
+          b.m = m0 + take;
+          spread_i(static_cast<std::uint32_t>(i), m0, b.m);
         }
       }
     }
