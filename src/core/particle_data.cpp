@@ -17,13 +17,18 @@ void apply_order(std::vector<T>& v, const std::vector<std::uint32_t>& order, std
 }
 }  // namespace
 
-void ParticleData::permute(const std::vector<std::uint32_t>& order, std::size_t capacity) {
-  std::vector<double> sd;
-  for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &fx, &fy, &fz, &hx, &hy, &hz}) apply_order(*v, order, sd, capacity);
-  std::vector<std::int32_t> si;
-  for (auto* v : {&species, &ix, &iy, &iz}) apply_order(*v, order, si, capacity);
-  std::vector<std::uint32_t> su;
-  apply_order(id, order, su, capacity);
+void ParticleData::permute(const std::vector<std::uint32_t>& order, std::size_t capacity, Forces forces) {
+  for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &hx, &hy, &hz}) apply_order(*v, order, spare_real_, capacity);
+  for (auto* v : {&fx, &fy, &fz}) {
+    if (forces == Forces::Keep) {
+      apply_order(*v, order, spare_real_, capacity);
+    } else {
+      if (v->capacity() < capacity) v->reserve(capacity);
+      v->resize(order.size());
+    }
+  }
+  for (auto* v : {&species, &ix, &iy, &iz}) apply_order(*v, order, spare_int_, capacity);
+  apply_order(id, order, spare_id_, capacity);
   n_local = order.size();
   n_ghost = 0;
 }

@@ -447,6 +447,7 @@ void Simulation::compute_forces(bool with_sums) {
     return s.body_force[0] != 0 || s.body_force[1] != 0 || s.body_force[2] != 0;
   });
   if (any_body) {
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       const auto& bf = sp[static_cast<std::size_t>(p_.species[i])].body_force;
       p_.fx[i] += bf[0];
@@ -461,6 +462,7 @@ void Simulation::compute_forces(bool with_sums) {
     const auto& coord = ga == 0 ? p_.x : ga == 1 ? p_.y : p_.z;
     auto& f = fa == 0 ? p_.fx : fa == 1 ? p_.fy : p_.fz;
     const double g = spec_.poiseuille.force;
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) f[i] += mass_[static_cast<std::size_t>(p_.species[i])] * (coord[i] < half ? g : -g);
   }
 }

@@ -44,26 +44,56 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
   const std::size_t nc = grid_.num_cells();
   const std::size_t owned = grid_.num_owned_cells();
 
-  // Counting sort of local particles by cell. Stable, so the order is a function of positions alone.
+  // Counting sort of local particles by cell. Stable, so the order is a function of positions alone
+  // (not of the thread count). Each thread counts its block of particles per cell; a prefix over
+  // (cell, thread) gives each thread's first slot in each cell; each thread then places its block.
   cell_index_.resize(n);
+  cell_start_.resize(nc + 1);
+  order_.resize(n);
+  const std::size_t max_threads = static_cast<std::size_t>(omp_get_max_threads());
+  thread_cell_slots_.resize(max_threads * owned);
+  thread_block_sums_.resize(max_threads);
   int outside = 0;
-#pragma omp parallel for schedule(static) reduction(| : outside)
-  for (std::size_t i = 0; i < n; ++i) {
-    const int c = grid_.cell_of(p.x[i], p.y[i], p.z[i]);
-    outside |= c < 0 ? 1 : 0;
-    cell_index_[i] = static_cast<std::uint32_t>(c < 0 ? 0 : c);
+#pragma omp parallel reduction(| : outside)
+  {
+    const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t lo = n * t / nt, hi = n * (t + 1) / nt;               // this thread's particles
+    const std::size_t clo = owned * t / nt, chi = owned * (t + 1) / nt;     // and cells
+    std::uint32_t* slots = thread_cell_slots_.data() + t * owned;
+    std::fill(slots, slots + owned, 0u);
+    for (std::size_t i = lo; i < hi; ++i) {
+      const int c = grid_.cell_of(p.x[i], p.y[i], p.z[i]);
+      outside |= c < 0 ? 1 : 0;
+      cell_index_[i] = static_cast<std::uint32_t>(c < 0 ? 0 : c);
+      ++slots[cell_index_[i]];
+    }
+#pragma omp barrier
+    std::uint64_t sum = 0;
+    for (std::size_t c = clo; c < chi; ++c)
+      for (std::size_t u = 0; u < nt; ++u) sum += thread_cell_slots_[u * owned + c];
+    thread_block_sums_[t] = sum;
+#pragma omp barrier
+    std::uint64_t base = 0;
+    for (std::size_t u = 0; u < t; ++u) base += thread_block_sums_[u];
+    for (std::size_t c = clo; c < chi; ++c) {
+      cell_start_[c] = static_cast<std::uint32_t>(base);
+      for (std::size_t u = 0; u < nt; ++u) {
+        const std::uint32_t count = thread_cell_slots_[u * owned + c];
+        thread_cell_slots_[u * owned + c] = static_cast<std::uint32_t>(base);
+        base += count;
+      }
+    }
+#pragma omp barrier
+    for (std::size_t i = lo; i < hi; ++i) order_[slots[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
   }
   if (outside) throw std::logic_error("NeighborList: a local particle lies outside this rank's cells");
-  cell_start_.assign(nc + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
-  for (std::size_t c = 0; c < owned; ++c) cell_start_[c + 1] += cell_start_[c];
-  order_.resize(n);
-  {
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.begin() + static_cast<std::ptrdiff_t>(owned));
-    for (std::size_t i = 0; i < n; ++i) order_[fill[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
-  }
+  cell_start_[owned] = static_cast<std::uint32_t>(n);
   cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
-  if (settings_.sort || decomposed) p.permute(order_, decomposed ? n + n / 8 : 0);  // room for the ghosts
+  // Forces are not carried: the step computes every force after a build, before reading any
+  // (Simulation::step; at start-up the first build is followed by a force computation).
+  if (settings_.sort || decomposed)
+    p.permute(order_, decomposed ? n + n / 8 : 0, ParticleData::Forces::Discard);  // room for the ghosts
   if (decomposed) {
     // Ghost cells follow the owned ones in storage and in cell_start_.
     halo->build_ghosts(p, grid_, cell_start_, ghost_count_);

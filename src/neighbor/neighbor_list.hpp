@@ -52,6 +52,8 @@ class NeighborList {
   std::vector<std::uint32_t> cell_start_, cell_index_, order_, ghost_count_;
   std::vector<std::uint32_t> offsets_, neighbors_;
   std::vector<std::vector<std::uint32_t>> thread_rows_;
+  std::vector<std::uint32_t> thread_cell_slots_;  // counting sort: per thread and cell, count then first slot
+  std::vector<std::uint64_t> thread_block_sums_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   std::uint64_t builds_ = 0;
   bool cells_only_ = false;
