@@ -113,7 +113,9 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   {
     const int t = omp_get_thread_num();
     std::vector<std::int64_t>& bufv = buffers_[static_cast<std::size_t>(t)];
-    bufv.assign(3 * ntot, 0);
+    // Buffers are left all zero by the reduction below, which clears each entry as it reads it (the
+    // cache line is already there), so only entries added by growth need zeroing here.
+    if (bufv.size() != 3 * ntot) bufv.resize(3 * ntot, 0);
     std::int64_t* buf = bufv.data();
     PairBatch& b = *batches_[static_cast<std::size_t>(t)];
     b.m = 0;
@@ -375,10 +377,11 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       for (std::size_t i = 0; i < n; ++i) {
         std::int64_t sx = 0, sy = 0, sz = 0;
         for (int u = 0; u < nthreads; ++u) {
-          const std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
+          std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
           sx += bu[3 * i];
           sy += bu[3 * i + 1];
           sz += bu[3 * i + 2];
+          bu[3 * i] = bu[3 * i + 1] = bu[3 * i + 2] = 0;
         }
         p.fx[i] = static_cast<double>(sx) * kForceUnscale;
         p.fy[i] = static_cast<double>(sy) * kForceUnscale;
@@ -389,7 +392,10 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
 #pragma omp for schedule(static)
       for (std::size_t k = 0; k < 3 * ntot; ++k) {
         std::int64_t s = 0;
-        for (int u = 0; u < nthreads; ++u) s += buffers_[static_cast<std::size_t>(u)][k];
+        for (int u = 0; u < nthreads; ++u) {
+          s += buffers_[static_cast<std::size_t>(u)][k];
+          buffers_[static_cast<std::size_t>(u)][k] = 0;
+        }
         fixed_[k] = s;
       }
     }

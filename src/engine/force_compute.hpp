@@ -64,7 +64,7 @@ class ForceCompute {
   std::vector<DpdPairParamsT<PairReal>> params_real_;  // table_.params in the pair arithmetic type
   NoiseSettings noise_;
   WeightKind weight_kind_ = WeightKind::General;  // shared by all pairs, else General
-  std::vector<std::vector<std::int64_t>> buffers_;  // per thread: fx, fy, fz interleaved
+  std::vector<std::vector<std::int64_t>> buffers_;  // per thread: fx, fy, fz interleaved; all zero between calls
   std::vector<std::int64_t> fixed_;                 // summed over threads, when there are ghosts
   std::vector<std::unique_ptr<PairBatch>> batches_;  // per thread
 };
