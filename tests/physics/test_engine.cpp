@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -59,6 +60,28 @@ PairSet brute_force_pairs(const ParticleData& p, const Box& box, double range) {
   return out;
 }
 
+// The oracle for the engine's step-0 forces: the force on i due to j from the force law in double,
+// with the engine's minimum image and pair noise. Zero (and in_range false) beyond `range` or at r = 0.
+struct ReferencePair {
+  bool in_range = false;
+  std::array<double, 3> f{0.0, 0.0, 0.0};
+};
+ReferencePair reference_pair(const SimulationSpec& spec, const DpdPairParams& pp, NoiseKind kind,
+                             const ParticleData& p, const Box& box, std::size_t i, std::size_t j, double range) {
+  const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x),
+                       minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y),
+                       minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z)};
+  const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  ReferencePair out;
+  if (r >= range || r == 0) return out;
+  const double rv = (d[0] * (p.vx[i] - p.vx[j]) + d[1] * (p.vy[i] - p.vy[j]) + d[2] * (p.vz[i] - p.vz[j])) / r;
+  const double xi = pair_noise(spec.seed, 0, p.id[i], p.id[j], kind);
+  const DpdPairForce pf = dpd_pair_force(pp, r, rv, xi, 1 / std::sqrt(spec.dt));
+  out.in_range = true;
+  for (std::size_t c = 0; c < 3; ++c) out.f[c] = (pf.fc + pf.fd + pf.fr) * d[c] / r;
+  return out;
+}
+
 }  // namespace
 
 TEST(NeighborList, EqualsBruteForceOnBoxesOfSeveralShapes) {
@@ -109,18 +132,11 @@ TEST(Forces, EngineEqualsReferenceFarFromTheOrigin) {
     for (std::size_t b = a + 1; b < a + n; ++b) {  // forward in z, once round the periodic end
       const std::size_t j = by_z[b % n];
       if (p.z[j] + (b >= n ? lz : 0.0) - p.z[i] >= 1.0) break;
-      const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x),
-                           minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y),
-                           minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z)};
-      const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      if (r >= 1.0 || r == 0) continue;
-      ++pairs;
-      const double rv = (d[0] * (p.vx[i] - p.vx[j]) + d[1] * (p.vy[i] - p.vy[j]) + d[2] * (p.vz[i] - p.vz[j])) / r;
-      const double xi = pair_noise(spec.seed, 0, p.id[i], p.id[j], NoiseKind::Uniform);
-      const DpdPairForce pf = dpd_pair_force(pp, r, rv, xi, 1 / std::sqrt(spec.dt));
-      for (int c = 0; c < 3; ++c) {
-        f[i][static_cast<std::size_t>(c)] += (pf.fc + pf.fd + pf.fr) * d[c] / r;
-        f[j][static_cast<std::size_t>(c)] -= (pf.fc + pf.fd + pf.fr) * d[c] / r;
+      const ReferencePair ref = reference_pair(spec, pp, NoiseKind::Uniform, p, box, i, j, 1.0);
+      pairs += ref.in_range ? 1 : 0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        f[i][c] += ref.f[c];
+        f[j][c] -= ref.f[c];
       }
     }
   }
@@ -176,16 +192,8 @@ TEST(Forces, EngineEqualsReferenceWithVelocities) {
       double f[3] = {0, 0, 0};
       for (std::size_t j = 0; j < p.n_local; ++j) {
         if (i == j) continue;
-        const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x),
-                             minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y),
-                             minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z)};
-        const double v[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
-        const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (r >= 1.3 || r == 0) continue;
-        const double rv = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / r;
-        const double xi = pair_noise(spec.seed, 0, p.id[i], p.id[j], kind);
-        const DpdPairForce pf = dpd_pair_force(pp, r, rv, xi, 1 / std::sqrt(spec.dt));
-        for (int c = 0; c < 3; ++c) f[c] += (pf.fc + pf.fd + pf.fr) * d[c] / r;
+        const ReferencePair ref = reference_pair(spec, pp, kind, p, box, i, j, 1.3);
+        for (std::size_t c = 0; c < 3; ++c) f[c] += ref.f[c];
       }
       max_err = std::max({max_err, std::abs(f[0] - p.fx[i]), std::abs(f[1] - p.fy[i]), std::abs(f[2] - p.fz[i])});
       max_f = std::max({max_f, std::abs(f[0]), std::abs(f[1]), std::abs(f[2])});
