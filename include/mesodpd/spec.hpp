@@ -22,6 +22,9 @@ enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };
 enum class NeighborMethod { Verlet, Cells };
 enum class DumpFormat { Lammps, Gsd };
+// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD, or the soft cosine
+// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat.
+enum class PairStyle { Dpd, Soft };
 enum class VelocityInit { Maxwell, File, Zero };
 
 struct SpeciesSpec {
@@ -78,6 +81,7 @@ struct SimulationSpec {
   double kT = 1.0;                              // [system] kT
   std::uint64_t seed = 1;                       // [system] seed
   std::vector<SpeciesSpec> species;             // [[species]]
+  PairStyle pair_style = PairStyle::Dpd;        // [pair] style
   std::vector<PairSpec> pairs;                  // all n(n+1)/2 pairs after defaults/mixing/overrides
   std::string data_file;                        // [init] lammps_data: read particles from this file
   bool init_velocities = true;                  // Maxwell-Boltzmann at kT unless the data file has them

@@ -105,7 +105,5 @@ class Simulation {
   std::unique_ptr<Observers> observers_;
 };
 
-// Builds the dense pair table from a validated spec (sigma from the fluctuation-dissipation relation).
-PairTable make_pair_table(const SimulationSpec& spec);
 
 }  // namespace mesodpd
