@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <span>
 
 #include "analysis/kinetic_theory.hpp"
@@ -11,6 +13,7 @@
 #include "analysis/thermo.hpp"
 #include "io/atomic_file.hpp"
 #include "io/frame.hpp"
+#include "io/json_number.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/halo.hpp"
 
@@ -264,24 +267,35 @@ std::string Observers::finish(const StepContext& ctx) {
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
   if (profile_) {
     const double rho = static_cast<double>(ctx.total_particles) / ctx.box.volume();
-    const PairSpec& pp = s.pair(0, 0);
-    const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
+    // Kinetic theory only where one set of pair parameters describes the fluid (kinetic_theory.hpp).
+    const KineticViscosity theory = kinetic_viscosity_of(s, rho);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double eta_theory = theory.applies ? theory.eta : nan;
+    const std::string theory_text =
+        theory.applies ? fmt::format("kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f}", theory.eta)
+                       : fmt::format("no kinetic-theory value for {}", theory.why_not);
+    // One `a` for the plot's legend where all pairs share it.
+    bool one_a = true;
+    for (const PairSpec& q : s.pairs) one_a = one_a && q.a == s.pairs.front().a;
     if (profile_->samples() < 2) {
       summary += "reverse Poiseuille: too few profile samples for a viscosity (run longer than poiseuille.start)\n";
     } else {
       const ViscosityFit fit = profile_->fit();
       summary += fmt::format(
-          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} (kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f})\n",
-          fit.eta, fit.eta_err, eta_theory);
+          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} ({})\n", fit.eta, fit.eta_err, theory_text);
       profile_->write_csv(out("poiseuille_profile.csv").string());
       write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
-      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) {
-        os << fmt::format(
-            "{{\n  \"eta\": {:.8g},\n  \"eta_err\": {:.8g},\n  \"eta_kinetic_theory\": {:.8g},\n  \"blocks\": {},\n"
-            "  \"samples\": {},\n  \"density\": {:.8g},\n  \"gamma\": {:.8g},\n  \"s\": {:.8g},\n  \"force\": {:.8g}\n}}\n",
-            fit.eta, fit.eta_err, eta_theory, fit.blocks_used, profile_->samples(), rho, pp.gamma, pp.s,
-            s.poiseuille.force);
-      });
+      nlohmann::ordered_json summary_json;  // keys in the order written
+      summary_json["eta"] = json_number(fit.eta);
+      summary_json["eta_err"] = json_number(fit.eta_err);
+      summary_json["eta_kinetic_theory"] = json_number(eta_theory);
+      summary_json["blocks"] = fit.blocks_used;
+      summary_json["samples"] = profile_->samples();
+      summary_json["density"] = json_number(rho);
+      summary_json["gamma"] = theory.applies ? json_number(theory.gamma) : nullptr;
+      summary_json["s"] = theory.applies ? json_number(theory.s) : nullptr;
+      summary_json["force"] = json_number(s.poiseuille.force);
+      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) { os << summary_json.dump(2) << '\n'; });
       SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
       SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
       const char* axes = "xyz";
@@ -289,9 +303,13 @@ std::string Observers::finish(const StepContext& ctx) {
                      fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
                      fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
                      {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
-                      fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", eta_theory),
-                      fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho, pp.a,
-                                  pp.gamma, pp.s, s.poiseuille.force)});
+                      theory.applies ? fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", theory.eta)
+                                     : fmt::format("kinetic theory: none for {}", theory.why_not),
+                      theory.applies && one_a
+                          ? fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho,
+                                        s.pairs.front().a, theory.gamma, theory.s, s.poiseuille.force)
+                          : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
+                                        s.poiseuille.force)});
     }
   }
   if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
