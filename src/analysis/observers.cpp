@@ -3,7 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -72,12 +74,32 @@ void trim_lammps_dump(const std::filesystem::path& path, std::uint64_t last_step
 
 }  // namespace
 
+std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
+                                               std::uint64_t samples) {
+  const double deviation = mean_t / spec.kT - 1.0;
+  // Canonical fluctuations alone move a mean of independent samples by about sqrt(2 / dof / samples)
+  // (relative); three of those are added so that a small system is not flagged for its noise.
+  const double noise = 3.0 * std::sqrt(2.0 / std::max(dof, 1.0) / static_cast<double>(std::max<std::uint64_t>(samples, 1)));
+  if (!(std::fabs(deviation) > kTemperatureTolerance + noise)) return std::nullopt;
+  std::string advice = fmt::format("reduce integrator.dt (now {})", spec.dt);
+  if (spec.integrator == IntegratorKind::GrootWarren && deviation > 0 && spec.lambda < 0.65)
+    advice += fmt::format(" or raise integrator.lambda (now {}; 0.65 keeps kT within 1% up to dt = 0.06 at rho = 3, "
+                          "docs/validation.md)", spec.lambda);
+  if (spec.integrator == IntegratorKind::Euler) advice += " or use integrator.type = \"groot-warren\"";
+  return fmt::format("over the second half of the run the mean temperature {:.4g} is {:.1f}% {} the target kT = {} "
+                     "(tolerance {:.0f}%): the time step is too large for these forces, or the run too short to "
+                     "relax from its initial state; {}, or run longer",
+                     mean_t, 100 * std::fabs(deviation), deviation > 0 ? "above" : "below", spec.kT,
+                     100 * kTemperatureTolerance, advice);
+}
+
 Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, const StepContext& start)
     : spec_(spec), opt_(std::move(settings)) {
   const SimulationSpec& s = spec_;
   const Comm& comm = start.comm;
   const bool restarted = opt_.restarted;
   if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
+  late_from_ = start.step + (opt_.final_step > start.step ? (opt_.final_step - start.step) / 2 : 0);
   if (opt_.out_dir.empty()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
@@ -209,6 +231,10 @@ void Observers::observe(const StepContext& ctx) {
       thermo_.flush();
     }
     temperature_sum_ += t.temperature_transverse;
+    if (step > late_from_) {
+      late_temperature_sum_ += t.temperature_transverse;
+      ++late_samples_;
+    }
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
   }
@@ -260,11 +286,23 @@ std::string Observers::finish(const StepContext& ctx) {
   const SimulationSpec& s = spec_;
   std::string summary;
   if (!ctx.comm.root()) return summary;
-  if (thermo_samples_ > 0)
+  if (thermo_samples_ > 0) {
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
                            s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
+  }
+  if (late_samples_ > 0) {
+    // Judged on the second half of this run's rows: a random initial placement heats the fluid for
+    // the first few time units, which is not the integrator's steady error.
+    const double late_t = late_temperature_sum_ / static_cast<double>(late_samples_);
+    const double n = static_cast<double>(ctx.total_particles);
+    const double dof = s.poiseuille.enabled ? 2 * n - 2 : 3 * n - 3;  // of the measured temperature
+    if (auto w = temperature_warning(late_t, s, dof, late_samples_)) {
+      summary += "warning: " + *w + "\n";
+      warnings_.push_back(*w);
+    }
+  }
   if (profile_) {
     const double rho = static_cast<double>(ctx.total_particles) / ctx.box.volume();
     // Kinetic theory only where one set of pair parameters describes the fluid (kinetic_theory.hpp).

@@ -617,6 +617,28 @@ TEST(Cli, PoiseuilleMixtureWithOtherGammaHasNoKineticTheoryValue) {
   EXPECT_NEAR(json2.at("eta_kinetic_theory").get<double>(), mesodpd::kinetic_viscosity(rho, 4.5, 1.0, 1.0, 2.0), 1e-7);
 }
 
+TEST(Cli, OverheatedRunWarnsAndSaysWhatToChange) {
+  const fs::path dir = work_dir();
+  // 300 steps: the heat of the random initial placement is gone in the second half, which is judged.
+  // dt = 0.1 is 2.5 times the standard step: the Groot-Warren scheme then runs about 30% hot.
+  write_text(dir / "hot.toml", small_config("[integrator]\ndt = 0.1\n", "steps = 300"));
+  const CliResult hot = mesodpd(dir, "run hot.toml --out hot");
+  EXPECT_EQ(hot.code, 0) << hot.err;  // a warning, not an error: the run finished
+  EXPECT_NE(hot.err.find("warning: over the second half of the run the mean temperature"), std::string::npos)
+      << hot.err;
+  EXPECT_NE(hot.err.find("above the target kT = 1"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("reduce integrator.dt (now 0.1)"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("integrator.lambda"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.out.find("warning: over the second half"), std::string::npos) << hot.out;  // also in the summary
+  // The standard dt on the same system stays within the tolerance: no warning.
+  write_text(dir / "ok.toml", small_config("", "steps = 300"));
+  const CliResult ok = mesodpd(dir, "run ok.toml --out ok");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;
+  EXPECT_EQ(ok.out.find("warning"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("mean temperature"), std::string::npos) << ok.out;
+}
+
 TEST(Cli, RdfAndMsdAreWritten) {
   const fs::path dir = work_dir();
   const std::string analysis = "[analysis.rdf]\nbins = 20\nrmax = 2.0\nevery = 5\n\n[analysis.msd]\nevery = 2\n";
