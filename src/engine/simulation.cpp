@@ -568,8 +568,17 @@ void Simulation::report_lost_particle() const {
 
 ThermoState Simulation::thermo() {
   if (!sums_valid_) {
-    // Recompute the pair sums at the current step; the forces come out bit-identical.
+    // Recompute the pair sums at the current step. The step's own force evaluation saw the predicted
+    // velocities (integrator pre_force), this one sees the current ones, so its dissipative forces
+    // differ: the forces the next step integrates with are put back, so asking for thermo does not
+    // change the trajectory (the dissipative and random virial are then those of the current velocities).
+    std::vector<double> fx(p_.fx.begin(), p_.fx.begin() + static_cast<std::ptrdiff_t>(p_.n_local));
+    std::vector<double> fy(p_.fy.begin(), p_.fy.begin() + static_cast<std::ptrdiff_t>(p_.n_local));
+    std::vector<double> fz(p_.fz.begin(), p_.fz.begin() + static_cast<std::ptrdiff_t>(p_.n_local));
     compute_forces(true);
+    std::copy(fx.begin(), fx.end(), p_.fx.begin());
+    std::copy(fy.begin(), fy.end(), p_.fy.begin());
+    std::copy(fz.begin(), fz.end(), p_.fz.begin());
   }
   ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm());
   t.step = step_;
