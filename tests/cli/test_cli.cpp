@@ -1,6 +1,8 @@
 // End-to-end tests of the mesodpd program: exit codes and error lines for bad input, blow-up
 // handling, trajectory and thermo output, LAMMPS data import, restarts and thread independence.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/kinetic_theory.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -477,6 +480,56 @@ TEST(Cli, DataFileWithoutVelocitiesNeedsAnotherVelocityInit) {
   }
 }
 
+// `check` refuses what `run` refuses before its first step, with the same message, for every refusal
+// that does not depend on the MPI rank count (issue: check called 10^12 particles valid).
+TEST(Cli, CheckRefusesWhatRunRefuses) {
+  const fs::path dir = work_dir();
+  write_text(dir / "heavy.data", std::string(kDataHeader).replace(std::string(kDataHeader).find("1 1.0"), 5, "1 2.0") +
+                                     "Atoms # atomic\n\n1 1 0.0 0.0 0.0\n2 2 1.0 0.0 0.0\n3 1 0.0 1.0 0.0\n4 2 0.0 0.0 1.0\n");
+  write_text(dir / "plain.data", grid_data(false));
+  const std::string a = "[[species]]\nname = \"A\"\ndensity = 3.0\n";
+  struct Case {
+    std::string name, config;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {"10^12 particles", "[system]\nbox = [10000.0, 10000.0, 10000.0]\n[[species]]\nname = \"A\"\ndensity = 1.0\n",
+       {"species[0].density", "32-bit"}},
+      {"ids overflow over two species",
+       "[system]\nbox = [5.0, 5.0, 5.0]\n[[species]]\nname = \"A\"\ncount = 3000000000\n"
+       "[[species]]\nname = \"B\"\ncount = 2000000000\n",
+       {"species[1].count", "5000000000"}},
+      {"cutoff of an override beyond half the box",
+       "[system]\nbox = [5.0, 5.0, 5.0]\n" + a + "[[pair.override]]\nspecies = [\"A\", \"A\"]\nrd = 3.0\n",
+       {"system.box", ">= 6"}},
+      {"run.threads", small_config("", "steps = 2\nthreads = 100000"), {"run.threads", "1024"}},
+      {"grid finer than the cells", "[system]\nbox = [3.5, 5.0, 5.0]\n" + a + "[parallel]\ngrid = [4, 1, 1]\n",
+       {"parallel.grid[0]", "fewer than 3 cells"}},
+      {"split run with a box axis under 3 cells", "[system]\nbox = [2.5, 10.0, 10.0]\n" + a + "[parallel]\ngrid = [1, 2, 0]\n",
+       {"system.box[0]", "3 cells"}},
+      {"cells beyond what any rank count can index",
+       "[system]\nbox = [100000.0, 100000.0, 100000.0]\n[[species]]\nname = \"A\"\ncount = 10\n",
+       {"system.box", "neighbour cells"}},
+      {"default rdf range beyond half the box", small_config("[analysis.rdf]\n"), {"analysis.rdf.rmax", "(default)"}},
+      {"data file mass differs", two_species_data_config("heavy.data"), {"species[0].mass", "heavy.data"}},
+      {"data file without velocities", two_species_data_config("plain.data"), {"init.velocities", "plain.data"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    write_text(dir / "bad.toml", c.config);
+    const CliResult checked = mesodpd(dir, "check bad.toml");
+    const CliResult ran = mesodpd(dir, "run bad.toml --out out --no-progress");
+    EXPECT_EQ(checked.code, 2) << checked.out << checked.err;
+    EXPECT_EQ(ran.code, 2) << ran.out << ran.err;
+    EXPECT_EQ(checked.err, ran.err);
+    ASSERT_EQ(lines_of(checked.err).size(), 1u) << checked.err;
+    for (const auto& word : c.expect) EXPECT_NE(checked.err.find(word), std::string::npos) << word << " not in " << checked.err;
+  }
+  // A grid that only the rank count can refuse is left to `run`: on one rank, `check` accepts it.
+  write_text(dir / "grid.toml", "[system]\nbox = [5.0, 5.0, 5.0]\n" + a + "[parallel]\ngrid = [4, 1, 1]\n");
+  EXPECT_EQ(mesodpd(dir, "check grid.toml").code, 0);
+}
+
 // Uninterrupted run to step 30 against 10 steps then a restart to 30, for both neighbour methods.
 TEST(Cli, RestartContinuesBitIdentically) {
   const fs::path dir = work_dir();
@@ -578,7 +631,62 @@ TEST(Cli, PoiseuilleWritesProfileViscosityAndPlot) {
   const std::string json = slurp(dir / "out" / "viscosity.json");
   EXPECT_NE(json.find("\"eta\":"), std::string::npos) << json;
   EXPECT_NE(json.find("\"samples\": 20"), std::string::npos) << json;
+  const auto parsed = nlohmann::json::parse(json);  // throws on invalid JSON
+  EXPECT_TRUE(parsed.at("eta").is_number()) << json;
+  EXPECT_EQ(parsed.at("samples").get<int>(), 20);
+  EXPECT_EQ(parsed.at("force").get<double>(), 0.5);
   EXPECT_NE(slurp(dir / "out" / "velocity_profile.svg").find("<svg"), std::string::npos);
+}
+
+// Two species at density 1.5 each with reverse Poiseuille flow; `ab` sets the A-B pair.
+std::string poiseuille_mixture(const std::string& ab) {
+  return "[system]\nbox = [5.0, 5.0, 5.0]\nseed = 7\n\n[[species]]\nname = \"A\"\ndensity = 1.5\n\n"
+         "[[species]]\nname = \"B\"\ndensity = 1.5\n\n[[pair.override]]\nspecies = [\"A\", \"B\"]\n" +
+         ab + "\n\n[run]\nsteps = 20\n\n[output]\nprogress = false\nthermo_every = 5\n\n"
+              "[poiseuille]\nforce = 0.5\nbins = 4\nstart = 0\nevery = 1\nblocks = 2\n";
+}
+
+TEST(Cli, PoiseuilleMixtureWithOtherGammaHasNoKineticTheoryValue) {
+  const fs::path dir = work_dir();
+  write_text(dir / "run.toml", poiseuille_mixture("gamma = 9.0"));
+  const CliResult r = mesodpd(dir, "run run.toml --out out");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("no kinetic-theory value for species pairs with different gamma"), std::string::npos) << r.out;
+  const auto json = nlohmann::json::parse(slurp(dir / "out" / "viscosity.json"));
+  EXPECT_TRUE(json.at("eta").is_number());
+  EXPECT_TRUE(json.at("eta_kinetic_theory").is_null());
+  EXPECT_TRUE(json.at("gamma").is_null());
+  // Only `a` differing: kinetic theory does not see the conservative force, so the one-fluid value applies.
+  write_text(dir / "run.toml", poiseuille_mixture("a = 40.0"));
+  const CliResult q = mesodpd(dir, "run run.toml --out out2");
+  ASSERT_EQ(q.code, 0) << q.err;
+  EXPECT_NE(q.out.find("kinetic theory, seed 000 Eq. 16 / Table 1: "), std::string::npos) << q.out;
+  const auto json2 = nlohmann::json::parse(slurp(dir / "out2" / "viscosity.json"));
+  const double rho = json2.at("density").get<double>();
+  EXPECT_NEAR(rho, 3.0, 0.01);
+  EXPECT_NEAR(json2.at("eta_kinetic_theory").get<double>(), mesodpd::kinetic_viscosity(rho, 4.5, 1.0, 1.0, 2.0), 1e-7);
+}
+
+TEST(Cli, OverheatedRunWarnsAndSaysWhatToChange) {
+  const fs::path dir = work_dir();
+  // 300 steps: the heat of the random initial placement is gone in the second half, which is judged.
+  // dt = 0.1 is 2.5 times the standard step: the Groot-Warren scheme then runs about 30% hot.
+  write_text(dir / "hot.toml", small_config("[integrator]\ndt = 0.1\n", "steps = 300"));
+  const CliResult hot = mesodpd(dir, "run hot.toml --out hot");
+  EXPECT_EQ(hot.code, 0) << hot.err;  // a warning, not an error: the run finished
+  EXPECT_NE(hot.err.find("warning: over the second half of the run the mean temperature"), std::string::npos)
+      << hot.err;
+  EXPECT_NE(hot.err.find("above the target kT = 1"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("reduce integrator.dt (now 0.1)"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("integrator.lambda"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.out.find("warning: over the second half"), std::string::npos) << hot.out;  // also in the summary
+  // The standard dt on the same system stays within the tolerance: no warning.
+  write_text(dir / "ok.toml", small_config("", "steps = 300"));
+  const CliResult ok = mesodpd(dir, "run ok.toml --out ok");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;
+  EXPECT_EQ(ok.out.find("warning"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("mean temperature"), std::string::npos) << ok.out;
 }
 
 TEST(Cli, RdfAndMsdAreWritten) {
