@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "mesodpd/simulation.hpp"
 #include "mesodpd/validate.hpp"
 #include "test_support.hpp"
