@@ -87,6 +87,7 @@ int main(int argc, char** argv) {
 #endif
   print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
         method == "verlet" ? skin : 0.0);
+  print("# pair loop SIMD target: {} (chosen at run time; MESODPD_SIMD caps it)\n", mesodpd::ForceCompute::simd_target());
   print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
         "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
   for (std::uint64_t n : sizes)

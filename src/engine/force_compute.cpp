@@ -525,7 +525,7 @@ void apply_simd_cap() {
     else if (c == "sse4") disable = HWY_AVX3 | HWY_AVX3_DL | HWY_AVX2;
     else if (c == "scalar") disable = HWY_AVX3 | HWY_AVX3_DL | HWY_AVX2 | HWY_SSE4 | HWY_SSSE3;
     else if (c != "avx512" && c != "best")
-      throw std::runtime_error("MESODPD_SIMD = " + c + ": expected avx512, avx2, sse4, scalar or best");
+      throw ConfigError("MESODPD_SIMD = " + c + " (environment): expected avx512, avx2, sse4, scalar or best");
     hwy::DisableTargets(disable);
     return true;
   }();
