@@ -18,6 +18,7 @@
 #include "analysis/rdf.hpp"
 #include "analysis/svg_plot.hpp"
 #include "analysis/velocity_profile.hpp"
+#include "engine/domain_exchange.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/progress.hpp"
 #include "io/atomic_file.hpp"
@@ -423,7 +424,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
 #endif
   }
   if (!restarted) {
-    nlist_.build(p_, box_, &halo_);
+    rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
   observers_ = std::make_unique<Observers>(*this, options_, restarted);
@@ -481,10 +482,7 @@ void Simulation::step() {
   ++step_;
   // 3. Neighbour list, rebuilt only when some particle has moved half the skin. Under MPI a rebuild
   //    migrates particles to their owners and rebuilds the ghosts; otherwise the ghosts are refreshed.
-  if (nlist_.needs_rebuild(p_, box_, &halo_))
-    nlist_.build(p_, box_, &halo_);
-  else
-    halo_.update_ghosts(p_);
+  update_neighbors(nlist_, p_, box_, halo_);
   // 4. Forces at the new positions (pair forces, ghost forces back to their owners, external forces).
   compute_forces(observers_ && observers_->wants_sums(step_));
   // 5. Second part of the integrator.

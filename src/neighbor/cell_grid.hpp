@@ -27,6 +27,8 @@ struct CellDomain {
   std::array<int, 3> lo{0, 0, 0};
   std::array<int, 3> count{0, 0, 0};  // 0: the whole axis
   std::array<bool, 3> ghost{false, false, false};
+
+  bool operator==(const CellDomain&) const = default;
 };
 
 class CellGrid {

@@ -178,9 +178,9 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
   }
 }
 
-void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector<std::uint32_t>& cell_start,
-                        std::vector<std::uint32_t>& ghost_count) {
+void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const std::uint32_t> cell_start) {
   const std::size_t n_ghost_cells = grid.num_cells() - grid.num_owned_cells();
+  std::vector<std::uint32_t>& ghost_count = ghost_count_;
   ghost_count.assign(n_ghost_cells, 0);
   n_local_ = p.n_local;
   p.resize(p.n_local);
