@@ -302,7 +302,8 @@ void Observers::observe(std::uint64_t step, const PairSums& sums) {
   const ParticleData& p = gather();
   if (!comm().root()) return;
   const std::size_t n = p.n_local;
-  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z});
+  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {sim_.box().len.x, sim_.box().len.y, sim_.box().len.z},
+                            sim_.box().periodic);
   if (msd_due) {
     scratch_a_.resize(n);
     scratch_b_.resize(n);
@@ -389,6 +390,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   final_step_ = options_.steps ? *options_.steps : spec_.steps;
   const bool restarted = !options_.restart.empty();
   const Comm comm = Comm::world();
+  box_.periodic = spec_.periodic;
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
   auto check_box = [&] {
     const double two_rc = 2 * forces_.table().max_cutoff;
@@ -397,7 +399,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   };
   auto decompose = [&] {
     halo_ = Halo(comm, Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
-                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range));
+                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range,
+                                           box_.periodic));
   };
   if (!restarted && spec_.data_file.empty() && comm.distributed()) {
     // A generated system: each rank creates only the particles of its own cells.
@@ -471,14 +474,13 @@ void Simulation::compute_forces(bool with_sums) {
 void Simulation::step() {
   // 1. First part of the integrator: positions and the velocity the forces will see.
   std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
-  // 2. Periodic wrap of the local particles.
-  const std::size_t n = p_.n_local;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    wrap_coordinate(p_.x[i], p_.ix[i], box_.len.x);
-    wrap_coordinate(p_.y[i], p_.iy[i], box_.len.y);
-    wrap_coordinate(p_.z[i], p_.iz[i], box_.len.z);
-  }
+  // 2. Box boundaries: periodic wrap of the local particles; a particle outside a bounded axis is lost.
+  if (const auto lost = apply_box_boundaries(p_, box_, halo_.comm()))
+    throw BlowUpError(step_ + 1, lost->id,
+                      fmt::format("particle id {} left the box at step {}: position ({}, {}, {}) is outside [0, {}) "
+                                  "along {}, which is bounded (system.periodic) with nothing to keep it in",
+                                  lost->id, step_ + 1, lost->x, lost->y, lost->z, box_.length(lost->axis),
+                                  "xyz"[lost->axis]));
   ++step_;
   // 3. Neighbour list, rebuilt only when some particle has moved half the skin. Under MPI a rebuild
   //    migrates particles to their owners and rebuilds the ghosts; otherwise the ghosts are refreshed.

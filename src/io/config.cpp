@@ -232,6 +232,23 @@ class Section {
     return out;
   }
 
+  // Exactly three booleans (one per axis).
+  std::optional<std::array<bool, 3>> bool3(std::string_view key) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    const toml::array* arr = n->as_array();
+    if (!arr) wrong_type(key, *n, "an array of 3 booleans");
+    if (arr->size() != 3) bad(key, *n, fmt::format("expected 3 booleans, got {}", arr->size()));
+    std::array<bool, 3> out{};
+    for (std::size_t d = 0; d < 3; ++d) {
+      const toml::node& e = *arr->get(d);
+      const auto* b = e.as_boolean();
+      if (!b) wrong_type(fmt::format("{}[{}]", key, d), e, "a boolean (true or false)");
+      out[d] = b->get();
+    }
+    return out;
+  }
+
   std::optional<std::vector<std::string>> strings(std::string_view key) const {
     const toml::node* n = get(key);
     if (!n) return std::nullopt;
@@ -354,10 +371,18 @@ PairKeys read_pair_keys(const Section& s) {
 }
 
 void read_system(const Section& top, SimulationSpec& spec) {
-  const Section sys = top.table_or_empty("system", {"box", "kT", "seed"});
+  const Section sys = top.table_or_empty("system", {"box", "periodic", "kT", "seed"});
   const auto box = sys.vec3("box", kPositive);
   if (!box) sys.missing("box", " (three positive box lengths)");
   spec.box = *box;
+  if (const auto periodic = sys.bool3("periodic")) {
+    spec.periodic = *periodic;
+    // The engine handles bounded axes, but until walls exist nothing would keep particles in.
+    if (!(spec.periodic[0] && spec.periodic[1] && spec.periodic[2]))
+      sys.bad("periodic",
+              "a bounded axis (false) needs walls to close it, which are not implemented yet; use "
+              "[true, true, true]");
+  }
   spec.kT = real_or(sys, "kT", 1.0, kPositive);
   spec.seed = uint_or(sys, "seed", 1, 0);
 }
@@ -652,7 +677,7 @@ void check_box(const Section& top, const SimulationSpec& spec) {
   for (const PairSpec& p : spec.pairs) cutoff = std::max({cutoff, p.rc, p.rd});
   for (int d = 0; d < 3; ++d) {
     if (spec.box[static_cast<std::size_t>(d)] < 2.0 * cutoff) {
-      const Section sys = top.table_or_empty("system", {"box", "kT", "seed"});
+      const Section sys = top.table_or_empty("system", {"box", "periodic", "kT", "seed"});
       sys.bad("box",
               fmt::format("every length must be >= 2 x the largest cutoff (max rc, rd = {}), i.e. >= {}",
                           cutoff, 2.0 * cutoff));

@@ -13,13 +13,14 @@ bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
   int moved = (builds_ == 0 || x0_.size() != p.n_local) ? 1 : 0;
   if (!moved) {
     const double limit2 = 0.25 * settings_.skin * settings_.skin;
-    const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
+    const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+    const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
     const std::size_t n = p.n_local;
 #pragma omp parallel for reduction(| : moved) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, hlx);
-      const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, hly);
-      const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
+      const double dx = minimum_image(p.x[i] - x0_[i], lx, hlx);
+      const double dy = minimum_image(p.y[i] - y0_[i], ly, hly);
+      const double dz = minimum_image(p.z[i] - z0_[i], lz, hlz);
       moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
     }
   }
@@ -134,7 +135,9 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
   }
   // order_[k] is the storage index of the k-th particle in cell order.
 
-  const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
+  // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
+  const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+  const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
   const double range = settings_.cutoff + settings_.skin;
   const double range2 = range * range;
 
@@ -146,9 +149,9 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
     auto scan = [&](std::uint32_t k0, std::uint32_t k1) {
       for (std::uint32_t k = k0; k < k1; ++k) {
         const std::uint32_t j = order_[k];
-        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
+        const double dx = minimum_image(xi - p.x[j], lx, hlx);
+        const double dy = minimum_image(yi - p.y[j], ly, hly);
+        const double dz = minimum_image(zi - p.z[j], lz, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     };
@@ -167,9 +170,9 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
       for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
         const std::uint32_t j = order_[k];
         if (j <= i) continue;
-        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
+        const double dx = minimum_image(xi - p.x[j], lx, hlx);
+        const double dy = minimum_image(yi - p.y[j], ly, hly);
+        const double dz = minimum_image(zi - p.z[j], lz, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     });
