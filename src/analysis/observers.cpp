@@ -163,6 +163,7 @@ void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const Pa
   f.time = static_cast<double>(step) * s.dt;
   f.box_lo = {0, 0, 0};
   f.box_len = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+  f.periodic = ctx.box.periodic;
   f.n = p.n_local;
   f.id = p.id.data();
   f.species = p.species.data();
