@@ -16,6 +16,7 @@
 
 #include "core/philox.hpp"
 #include "engine/simulation.hpp"
+#include "mesodpd/validate.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "physics/dpd_pair.hpp"
@@ -267,5 +268,24 @@ TEST(Boundaries, LeavingThroughABoundedFaceStopsTheRun) {
     for (const std::string& needle : std::vector<std::string>{"left the box at step 2", "particle id " + std::to_string(id_z), "along z",
                                      "system.periodic"})
       EXPECT_NE(what.find(needle), std::string::npos) << what << "\nlacks: " << needle;
+  }
+}
+
+// The engine runs bounded axes; validate(spec), which the config reader and the public API call,
+// refuses them until walls exist, naming the key and saying why.
+TEST(Boundaries, ValidateRefusesBoundedAxesUntilWallsExist) {
+  SimulationSpec spec = test::fluid_spec(5.0, 5.0, 5.0, 3.0);
+  spec.species[0].count = 0;
+  spec.species[0].density = 3.0;
+  SimulationSpec periodic = spec;
+  EXPECT_NO_THROW(validate(periodic));
+  spec.periodic = {true, true, false};
+  try {
+    validate(spec);
+    FAIL() << "expected a SpecError";
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.key(), "system.periodic");
+    EXPECT_EQ(e.value(), "[true, true, false]");
+    EXPECT_NE(e.why().find("walls"), std::string::npos) << e.what();
   }
 }
