@@ -9,15 +9,17 @@
 namespace mesodpd {
 
 namespace {
-// Calls visit(i, j, dx, dy, dz, r) for every pair i < j of local particles within `cutoff`.
+// Calls visit(i, j, dx, dy, dz, r) for every pair i < j of local particles within `cutoff` (minimum
+// image on periodic axes only).
 template <class Visit>
 void for_each_pair(const ParticleData& p, const Box& box, double cutoff, Visit&& visit) {
-  const double hx = 0.5 * box.len.x, hy = 0.5 * box.len.y, hz = 0.5 * box.len.z;
+  const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+  const double hx = box.half_image_len(0), hy = box.half_image_len(1), hz = box.half_image_len(2);
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t j = i + 1; j < p.n_local; ++j) {
-      const double dx = minimum_image(p.x[i] - p.x[j], box.len.x, hx);
-      const double dy = minimum_image(p.y[i] - p.y[j], box.len.y, hy);
-      const double dz = minimum_image(p.z[i] - p.z[j], box.len.z, hz);
+      const double dx = minimum_image(p.x[i] - p.x[j], lx, hx);
+      const double dy = minimum_image(p.y[i] - p.y[j], ly, hy);
+      const double dz = minimum_image(p.z[i] - p.z[j], lz, hz);
       const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
       if (r < cutoff) visit(i, j, dx, dy, dz, r);
     }
