@@ -273,6 +273,7 @@ TEST(Mpi, DensityPassIsBruteForceAndRankIndependent) {
       EXPECT_EQ(text, first) << ranks << " ranks x " << threads << " threads differ from 1 rank";
     }
   }
+}
 
 // Bounded axes under decomposition: no ghost exchange or migration across a bounded face, and the same
 // cell pairs as one rank. Step-0 forces and the state after 5 steps (positions, velocities, forces in id
