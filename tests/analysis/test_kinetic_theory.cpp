@@ -72,7 +72,9 @@ TEST(KineticTheory, DissipativeViscosityIsBetaIntegral) {
 SimulationSpec two_species() {
   SimulationSpec spec;
   spec.kT = 1.0;
-  spec.species = {SpeciesSpec{.name = "A"}, SpeciesSpec{.name = "B"}};
+  spec.species.resize(2);
+  spec.species[0].name.push_back('A');  // (assigning a literal trips GCC 12's false -Wrestrict here)
+  spec.species[1].name.push_back('B');
   spec.pairs.resize(3);  // (0,0), (0,1), (1,1)
   for (PairSpec& p : spec.pairs) {
     p.gamma = 4.5;
