@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/box.hpp"
+#include "core/pair_sums.hpp"
 #include "core/particle_data.hpp"
 #include "core/philox.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -15,15 +16,6 @@
 #include "physics/pair_table.hpp"
 
 namespace mesodpd {
-
-// Sums that the thermodynamic output needs from one force evaluation.
-struct PairSums {
-  // Virial tensor sum over pairs of r_ij (x) F_ij: xx, yy, zz, xy, xz, yz (seed 000 Eq. 11).
-  std::array<double, 6> virial{};
-  double virial_conservative = 0.0;  // trace of the conservative-only virial
-  double potential_energy = 0.0;
-  std::uint64_t pairs_in_range = 0;
-};
 
 struct NoiseSettings {
   std::uint64_t seed = 1;

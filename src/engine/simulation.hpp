@@ -1,6 +1,8 @@
-// A simulation: the particles, the force stages, the integrator and the measurements, with
-// Simulation::step() as the one place that says what a time step is.
+// A simulation: the particles, the pair forces, the integrator and the stages registered at named
+// points of the step (external fields, observers, writers), with Simulation::step() as the one place
+// that says what a time step is.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -11,9 +13,10 @@
 #include <vector>
 
 #include "core/box.hpp"
+#include "analysis/thermo.hpp"
 #include "core/particle_data.hpp"
+#include "core/stage.hpp"
 #include "engine/force_compute.hpp"
-#include "engine/thermo.hpp"
 #include "integrate/integrator.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -41,7 +44,7 @@ struct RunOptions {
   bool progress = false;                         // progress bar (terminal) or log lines
 };
 
-class Observers;  // measurements and writers, defined in simulation.cpp
+class Observers;  // measurements and writers (analysis/observers.hpp)
 
 class Simulation {
  public:
@@ -54,9 +57,18 @@ class Simulation {
   // then writes the final checkpoint and summaries. Returns a short human-readable summary.
   std::string run();
 
-  // One time step, in this order: integrate (first part), wrap/exchange, neighbours, forces,
-  // integrate (second part), health check, measure, write.
+  // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
+  // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),
+  // [AfterSecondHalf], health check, [EndOfStep]; [X] runs the stages registered at point X.
   void step();
+
+  // Registers a stage after those already at `at` (the constructor registers the external fields at
+  // Forces, and the observers and the periodic checkpoint at EndOfStep). Returns the stage.
+  template <class S>
+  S& add_stage(StagePoint at, std::unique_ptr<S> stage) {
+    return stages_.add(at, std::move(stage));
+  }
+  const StageList& stages() const { return stages_; }
 
   const SimulationSpec& spec() const { return spec_; }
   // This rank's particles: locals in [0, n_local), then ghosts.
@@ -75,13 +87,18 @@ class Simulation {
   const NeighborList& neighbor_list() const { return nlist_; }
   // Neighbour-list builds since step 0, including those before a restart.
   std::uint64_t neighbor_builds() const { return neighbor_builds_before_ + nlist_.builds(); }
-  // Thermodynamic state at the current step (recomputes the pair sums without changing any state).
+  // Thermodynamic state at the current step. Where the step computed no pair sums (no thermo row due),
+  // they are computed here from the end-of-step velocities (the dissipative and random virial then
+  // differ slightly from a thermo row's, which uses the predicted velocities); the forces and hence
+  // the trajectory are left unchanged.
   ThermoState thermo();
   // Serialises the full dynamic state; a run restarted from it continues bit-identically.
   void write_checkpoint(const std::filesystem::path& file) const;
 
  private:
-  void compute_forces(bool with_sums);
+  void compute_forces(bool with_sums);  // pair forces, then the Forces stages
+  StepContext context();
+  void run_stages(StagePoint at);
   void check_health() const;
   [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
   void load_checkpoint(const std::filesystem::path& file);
@@ -101,8 +118,10 @@ class Simulation {
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
   PairSums sums_;
+  std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;
-  std::unique_ptr<Observers> observers_;
+  StageList stages_;                 // owns the stages, the observers among them
+  Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
 };
 
 // Builds the dense pair table from a validated spec (sigma from the fluctuation-dissipation relation).

@@ -1,5 +1,5 @@
 // Kinetic sums for the thermodynamic output (virial sums come from the force loop).
-#include "engine/thermo.hpp"
+#include "analysis/thermo.hpp"
 
 #include <fmt/format.h>
 

@@ -1,5 +1,5 @@
 // Progress reporting to stderr.
-#include "engine/progress.hpp"
+#include "io/progress.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>

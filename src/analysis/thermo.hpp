@@ -7,7 +7,7 @@
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
-#include "engine/force_compute.hpp"
+#include "core/pair_sums.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {

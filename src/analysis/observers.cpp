@@ -1,0 +1,306 @@
+// The observers of a run: thermo rows, profile and viscosity, RDF, MSD, trajectory frames, progress.
+#include "analysis/observers.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <span>
+
+#include "analysis/kinetic_theory.hpp"
+#include "analysis/svg_plot.hpp"
+#include "analysis/thermo.hpp"
+#include "io/atomic_file.hpp"
+#include "io/frame.hpp"
+#include "parallel/comm.hpp"
+#include "parallel/halo.hpp"
+
+namespace mesodpd {
+
+namespace {
+
+// Leading unsigned integer of `text` (the step of a thermo row or of a dump frame).
+std::optional<std::uint64_t> parse_step(const std::string& text) {
+  std::uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end == text.data()) return std::nullopt;
+  return v;
+}
+
+// A restarted run continues from the checkpoint's step K, but the files in the output directory may
+// go further: the run that wrote the checkpoint went on (and perhaps blew up) before the restart.
+// Output after K is dropped so that appending does not duplicate steps. Rows and frames are in
+// increasing step order, so everything from the first one after K (or the first damaged one) goes.
+void trim_thermo_csv(const std::filesystem::path& path, std::uint64_t last_step) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, kept;
+  bool trimmed = false;
+  for (bool header = true; std::getline(in, line); header = false) {
+    const bool complete = !in.eof();  // a last line without '\n' was cut short by a crash
+    const auto step = parse_step(line);
+    if (!complete || (!header && (!step || *step > last_step))) {
+      trimmed = true;
+      break;
+    }
+    kept += line;
+    kept += '\n';
+  }
+  in.close();
+  if (trimmed) write_file_atomically(path, [&](std::ostream& os) { os << kept; });
+}
+
+void trim_lammps_dump(const std::filesystem::path& path, std::uint64_t last_step) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::optional<std::uintmax_t> cut;
+  while (true) {
+    const std::streamoff pos = in.tellg();
+    if (!std::getline(in, line)) break;
+    if (line != "ITEM: TIMESTEP") continue;
+    std::optional<std::uint64_t> step;
+    if (std::getline(in, line)) step = parse_step(line);
+    if (!step || *step > last_step) {
+      cut = static_cast<std::uintmax_t>(pos);
+      break;
+    }
+  }
+  in.close();
+  if (cut) std::filesystem::resize_file(path, *cut);
+}
+
+}  // namespace
+
+Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, const StepContext& start)
+    : spec_(spec), opt_(std::move(settings)) {
+  const SimulationSpec& s = spec_;
+  const Comm& comm = start.comm;
+  const bool restarted = opt_.restarted;
+  if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
+  if (opt_.out_dir.empty()) return;
+  double mass = 0;
+  if (s.poiseuille.enabled) {
+    // The fluid's mass: integer counts per species (exact over ranks) times the species masses.
+    std::vector<std::uint64_t> count(s.species.size(), 0);
+    const ParticleData& own = start.particles;
+    for (std::size_t i = 0; i < own.n_local; ++i) ++count[static_cast<std::size_t>(own.species[i])];
+    comm.sum(std::span<std::uint64_t>(count));
+    for (std::size_t k = 0; k < count.size(); ++k) mass += static_cast<double>(count[k]) * s.species[k].mass;
+  }
+  // Files belong to the root; an error there stops every rank.
+  comm.on_root([&] {
+    std::filesystem::create_directories(opt_.out_dir);
+    const auto thermo_path = out("thermo.csv");
+    if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, start.step);
+    const bool append =
+        restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
+    thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
+    if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
+    if (!append) thermo_ << thermo_csv_header() << '\n';
+    const Box& box = start.box;
+    const double len[3] = {box.len.x, box.len.y, box.len.z};
+    if (s.poiseuille.enabled)
+      profile_.emplace(static_cast<std::size_t>(s.poiseuille.bins), s.poiseuille.flow_axis, s.poiseuille.gradient_axis,
+                       len[s.poiseuille.gradient_axis], static_cast<std::size_t>(s.poiseuille.blocks),
+                       s.poiseuille.force, mass / box.volume());
+    if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
+    if (s.msd.enabled) msd_.emplace();
+    if (s.dump.enabled) {
+      const bool gsd = s.dump.format == DumpFormat::Gsd;
+      const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
+      if (gsd) {
+        // Frames after the checkpoint's step are dropped from the index, as trim_lammps_dump does for text.
+        gsd_.emplace(out(name), s.dump.fields, restarted,
+                     restarted ? std::optional<std::uint64_t>(start.step) : std::nullopt);
+      } else {
+        if (restarted && std::filesystem::exists(out(name))) trim_lammps_dump(out(name), start.step);
+        lammps_.emplace(out(name), s.dump.fields, restarted);
+      }
+    }
+  });
+}
+
+namespace {
+template <class T>
+void save_section(ByteWriter& w, const std::optional<T>& part) {
+  ByteWriter section;
+  if (part) part->save(section);
+  w.put<std::uint8_t>(part ? 1 : 0);
+  w.put_vector(section.bytes());
+}
+template <class T>
+void load_section(ByteReader& r, std::optional<T>& part, const std::string& context) {
+  const bool present = r.get<std::uint8_t>() != 0;
+  const std::vector<std::byte> bytes = r.get_vector<std::byte>();
+  if (!present || !part) return;
+  ByteReader section(bytes, context);
+  part->load(section, context);
+}
+}  // namespace
+
+void Observers::save(ByteWriter& w) const {
+  w.put<double>(temperature_sum_);
+  w.put<double>(pressure_sum_);
+  w.put<std::uint64_t>(thermo_samples_);
+  save_section(w, profile_);
+  save_section(w, rdf_);
+  save_section(w, msd_);
+}
+
+void Observers::load(ByteReader& r, const std::string& context) {
+  temperature_sum_ = r.get<double>();
+  pressure_sum_ = r.get<double>();
+  thermo_samples_ = r.get<std::uint64_t>();
+  load_section(r, profile_, context);
+  load_section(r, rdf_, context);
+  load_section(r, msd_, context);
+}
+
+void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
+  const SimulationSpec& s = spec_;
+  std::vector<std::string> names;
+  for (const auto& sp : s.species) names.push_back(sp.name);
+  FrameView f;
+  f.step = step;
+  f.time = static_cast<double>(step) * s.dt;
+  f.box_lo = {0, 0, 0};
+  f.box_len = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+  f.n = p.n_local;
+  f.id = p.id.data();
+  f.species = p.species.data();
+  f.x = p.x.data();
+  f.y = p.y.data();
+  f.z = p.z.data();
+  f.vx = p.vx.data();
+  f.vy = p.vy.data();
+  f.vz = p.vz.data();
+  f.fx = p.fx.data();
+  f.fy = p.fy.data();
+  f.fz = p.fz.data();
+  f.ix = p.ix.data();
+  f.iy = p.iy.data();
+  f.iz = p.iz.data();
+  f.species_names = &names;
+  f.species_mass = &ctx.species_mass;
+  if (lammps_) lammps_->write_frame(f);
+  if (gsd_) gsd_->write_frame(f);
+}
+
+void Observers::run(StepContext& ctx) {
+  observe(ctx);
+  if (progress_) progress_->update(ctx.step);
+}
+
+void Observers::observe(const StepContext& ctx) {
+  const SimulationSpec& s = spec_;
+  const Comm& comm = ctx.comm;
+  const std::uint64_t step = ctx.step;
+  if (thermo_due(step)) {
+    if (!ctx.pair_sums) throw std::logic_error("Observers: thermo output due but no pair sums were computed");
+    // Temperature across a driven flow only: the streaming velocity is not heat.
+    const int flow_axis = s.poiseuille.enabled ? s.poiseuille.flow_axis : -1;
+    ThermoState t = compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm);
+    t.step = step;
+    t.time = static_cast<double>(step) * s.dt;
+    t.neighbor_builds = ctx.neighbor_builds;
+    if (comm.root()) {
+      thermo_ << thermo_csv_row(t) << '\n';
+      thermo_.flush();
+    }
+    temperature_sum_ += t.temperature_transverse;
+    pressure_sum_ += t.pressure;
+    ++thermo_samples_;
+  }
+  // The velocity profile is summed in integers, so each rank bins its own particles. The other
+  // analyses see the whole system in id order (gathered on the root under MPI), so their sums are
+  // taken in the same order whatever the rank count or storage order.
+  const bool files = !opt_.out_dir.empty();
+  const bool profile_due = files && s.poiseuille.enabled && step > s.poiseuille.start && step % s.poiseuille.every == 0;
+  if (profile_due) {
+    // Each rank bins its own particles into integer sums; only the per-bin totals travel.
+    const ParticleData& own = ctx.particles;
+    const auto& grad = s.poiseuille.gradient_axis == 0 ? own.x : (s.poiseuille.gradient_axis == 1 ? own.y : own.z);
+    const auto& flow = s.poiseuille.flow_axis == 0 ? own.vx : (s.poiseuille.flow_axis == 1 ? own.vy : own.vz);
+    const double len[3] = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+    const auto bins = static_cast<std::size_t>(s.poiseuille.bins);
+    profile_bins_.assign(2 * bins, 0);
+    PoiseuilleProfile::bin(grad.data(), flow.data(), own.n_local, bins, len[s.poiseuille.gradient_axis],
+                           profile_bins_.data());
+    comm.sum(std::span<std::int64_t>(profile_bins_));
+    if (comm.root()) profile_->add_binned(profile_bins_.data());
+  }
+  const bool rdf_due = files && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
+  const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
+  const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
+  if (!(rdf_due || msd_due || dump_due)) return;
+  // The whole system in increasing id on the root (collective).
+  gather_by_id(ctx.particles, comm, ctx.total_particles, snapshot_);
+  if (!comm.root()) return;
+  const ParticleData& p = snapshot_;
+  const std::size_t n = p.n_local;
+  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z});
+  if (msd_due) {
+    scratch_a_.resize(n);
+    scratch_b_.resize(n);
+    scratch_c_.resize(n);
+    const Box& b = ctx.box;
+    for (std::size_t i = 0; i < n; ++i) {
+      scratch_a_[i] = p.x[i] + p.ix[i] * b.len.x;
+      scratch_b_[i] = p.y[i] + p.iy[i] * b.len.y;
+      scratch_c_[i] = p.z[i] + p.iz[i] * b.len.z;
+    }
+    msd_->sample(step, static_cast<double>(step) * s.dt, p.id.data(), scratch_a_.data(), scratch_b_.data(),
+                 scratch_c_.data(), n);
+  }
+  if (dump_due) write_frame(step, ctx, p);
+}
+
+std::string Observers::finish(const StepContext& ctx) {
+  const SimulationSpec& s = spec_;
+  std::string summary;
+  if (!ctx.comm.root()) return summary;
+  if (thermo_samples_ > 0)
+    summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
+                           temperature_sum_ / static_cast<double>(thermo_samples_),
+                           s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
+                           pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
+  if (profile_) {
+    const double rho = static_cast<double>(ctx.total_particles) / ctx.box.volume();
+    const PairSpec& pp = s.pair(0, 0);
+    const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
+    if (profile_->samples() < 2) {
+      summary += "reverse Poiseuille: too few profile samples for a viscosity (run longer than poiseuille.start)\n";
+    } else {
+      const ViscosityFit fit = profile_->fit();
+      summary += fmt::format(
+          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} (kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f})\n",
+          fit.eta, fit.eta_err, eta_theory);
+      profile_->write_csv(out("poiseuille_profile.csv").string());
+      write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
+      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) {
+        os << fmt::format(
+            "{{\n  \"eta\": {:.8g},\n  \"eta_err\": {:.8g},\n  \"eta_kinetic_theory\": {:.8g},\n  \"blocks\": {},\n"
+            "  \"samples\": {},\n  \"density\": {:.8g},\n  \"gamma\": {:.8g},\n  \"s\": {:.8g},\n  \"force\": {:.8g}\n}}\n",
+            fit.eta, fit.eta_err, eta_theory, fit.blocks_used, profile_->samples(), rho, pp.gamma, pp.s,
+            s.poiseuille.force);
+      });
+      SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
+      SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
+      const char* axes = "xyz";
+      write_svg_plot(out("velocity_profile.svg").string(), "Reverse Poiseuille flow: velocity profile",
+                     fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
+                     fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
+                     {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
+                      fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", eta_theory),
+                      fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho, pp.a,
+                                  pp.gamma, pp.s, s.poiseuille.force)});
+    }
+  }
+  if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
+  if (msd_ && msd_->size() > 2) {
+    msd_->write_csv(out("msd.csv").string());
+    summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());
+  }
+  if (progress_) progress_->finish();
+  return summary;
+}
+
+}  // namespace mesodpd

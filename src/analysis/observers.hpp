@@ -1,0 +1,72 @@
+// Everything that watches a run, as one EndOfStep stage: thermo output, velocity profile and
+// viscosity, RDF, MSD, trajectory frames and progress; their running averages go into checkpoints.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/msd.hpp"
+#include "analysis/rdf.hpp"
+#include "analysis/velocity_profile.hpp"
+#include "core/stage.hpp"
+#include "io/byte_buffer.hpp"
+#include "io/gsd_writer.hpp"
+#include "io/lammps_dump_writer.hpp"
+#include "io/progress.hpp"
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+struct ObserverSettings {
+  std::filesystem::path out_dir;   // empty: no files (thermo, profiles, trajectories are not kept)
+  bool progress = false;           // progress bar or log lines on the root
+  bool restarted = false;          // continuing from a checkpoint: append to existing files
+  std::uint64_t final_step = 0;    // for the progress bar
+};
+
+class Observers final : public Stage {
+ public:
+  // `start` is the state the run begins from (step 0 or the checkpoint's step). Collective.
+  Observers(const SimulationSpec& spec, ObserverSettings settings, const StepContext& start);
+
+  // Collective under MPI: every rank runs it at every step; files are written by the root from the
+  // particles gathered in id order, so they do not depend on the rank count.
+  // Measures and writes what is due at ctx.step, then advances the progress report.
+  void run(StepContext& ctx) override;
+  // The measurements and files alone (the initial state at step 0 is observed without progress).
+  void observe(const StepContext& ctx);
+  bool wants_pair_sums(std::uint64_t step) const override { return thermo_due(step); }
+
+  // The summaries at the end of a run (files on the root; text returned on the root, empty elsewhere).
+  std::string finish(const StepContext& ctx);
+
+  // Running averages (thermo means, profile, RDF, MSD) for checkpoints. Each part is a length-prefixed
+  // section, so a restart with an analysis switched off skips it and one switched on starts afresh.
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
+
+ private:
+  bool thermo_due(std::uint64_t step) const { return !opt_.out_dir.empty() && step % spec_.thermo_every == 0; }
+  std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
+  void write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& all);
+
+  const SimulationSpec& spec_;
+  ObserverSettings opt_;
+  std::ofstream thermo_;
+  std::optional<PoiseuilleProfile> profile_;
+  std::optional<RadialDistribution> rdf_;
+  std::optional<MeanSquaredDisplacement> msd_;
+  std::optional<LammpsDumpWriter> lammps_;
+  std::optional<GsdWriter> gsd_;
+  std::optional<ProgressReporter> progress_;
+  std::vector<double> scratch_a_, scratch_b_, scratch_c_;
+  ParticleData snapshot_;  // the whole system in id order (on the root), reused between samples
+  std::vector<std::int64_t> profile_bins_;  // one profile sample: fixed-point flow sums, then counts
+  double temperature_sum_ = 0, pressure_sum_ = 0;
+  std::uint64_t thermo_samples_ = 0;
+};
+
+}  // namespace mesodpd
