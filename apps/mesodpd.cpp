@@ -3,24 +3,25 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <new>
 #include <optional>
+#include <stdexcept>
 
 #include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
 #include "io/config.hpp"
+#include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"
 
 namespace {
 
 constexpr int kExitConfig = 2;
 constexpr int kExitBlowUp = 3;
-// More threads than this is a typo, not a request: libgomp crashes (SIGSEGV) or aborts when it
-// cannot create tens of thousands of threads.
-constexpr int kMaxThreads = 1024;
 
 int run_command(const std::string& config, const std::string& out, int threads, std::optional<std::int64_t> steps,
                 const std::string& restart, bool no_progress) {
@@ -28,9 +29,7 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   if (steps && *steps < 0) throw ConfigError(fmt::format("--steps: {} is negative", *steps));
   if (threads < 0 || threads > kMaxThreads)
     throw ConfigError(fmt::format("--threads: {} is out of range (0 to {})", threads, kMaxThreads));
-  SimulationSpec spec = load_config(config);
-  if (spec.threads > kMaxThreads)
-    throw ConfigError(fmt::format("{}: run.threads = {}: must be at most {}", config, spec.threads, kMaxThreads));
+  SimulationSpec spec = load_config(config);  // validated: what `check` accepts up to here, run accepts too
   const int nthreads = threads > 0 ? threads : (spec.threads > 0 ? spec.threads : omp_get_max_threads());
   omp_set_num_threads(nthreads);
   RunOptions opt;
@@ -42,7 +41,18 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   }
   opt.progress = spec.progress && !no_progress;
   const auto t0 = std::chrono::steady_clock::now();
-  Simulation sim(std::move(spec), opt);
+  const std::array<double, 3> box = spec.box;
+  std::optional<Simulation> built;
+  try {
+    built.emplace(std::move(spec), opt);
+  } catch (const std::bad_alloc&) {
+    // The only refusal before the first step that `check` cannot foresee: memory depends on the
+    // machine and, under MPI, on the rank count.
+    throw std::runtime_error(fmt::format("out of memory while building the system (box {} x {} x {}); use more MPI "
+                                         "ranks or a smaller system.box or particle count",
+                                         box[0], box[1], box[2]));
+  }
+  Simulation& sim = *built;
   const Comm& comm = sim.halo().comm();
   const std::uint64_t first = sim.current_step();
   if (comm.root()) {
@@ -112,16 +122,11 @@ int main(int argc, char** argv) {
       return run_command(config, out, threads, steps_override, restart, no_progress);
     }
     if (*check) {
+      // The same validation as `run`, then the same reading of a data file as `run` does before its
+      // first step: what passes here fails in `run` only for a reason that depends on the rank count
+      // (parallel.grid against mpirun -np) or on the machine (memory, output directory).
       const mesodpd::SimulationSpec spec = mesodpd::load_config(check_config);
-      std::uint64_t n = 0;
-      for (const auto& s : spec.species) n += s.count;
-      if (!spec.data_file.empty()) {
-        // Read the data file too, so `check` catches what `run` would reject before the first step.
-        mesodpd::Box box;
-        mesodpd::ParticleData p;
-        mesodpd::make_initial_state(spec, box, p);
-        n = p.n_local;
-      }
+      const std::uint64_t n = mesodpd::check_initial_state(spec);
       fmt::print("{}: valid ({} species, {} particles{})\n", check_config, spec.species.size(), n,
                  spec.data_file.empty() ? "" : " from " + spec.data_file);
       return 0;

@@ -29,11 +29,37 @@ struct SpeciesSpec {
   double mass = 1.0;                           // [[species]] mass (> 0)
   std::optional<double> a;                     // [[species]] a, used by mixing = "geometric"
   std::array<double, 3> body_force{0, 0, 0};   // [[species]] body_force: constant external force
-  std::uint64_t count = 0;                     // [[species]] count, or derived from density
+  std::optional<double> density;               // [[species]] density: validate() sets count from it
+  std::uint64_t count = 0;                     // [[species]] count, or round(density x box volume)
   Placement placement = Placement::Random;     // [[species]] placement
 };
 
-// Fully resolved interaction of one unordered species pair (i <= j).
+// DPD pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
+// next level (override -> [pair] -> built-in default) when validate() resolves `SimulationSpec::pairs`.
+struct PairParams {
+  std::optional<double> a;      // conservative repulsion a_ij (default 25, or geometric mixing)
+  std::optional<double> gamma;  // dissipative strength (default 4.5)
+  std::optional<double> sigma;  // optional cross-check: sigma^2 = 2 gamma kT (seed 000 Eq. 7)
+  std::optional<double> rc;     // conservative cutoff (default 1)
+  std::optional<double> rd;     // dissipative/random cutoff (default: this pair's rc)
+  std::optional<double> s;      // weight exponent (default 2)
+};
+
+enum class Mixing { Explicit, Geometric };
+
+struct PairOverride {
+  std::vector<std::string> species;  // the two species names of the pair, either order
+  PairParams params;
+};
+
+// The [pair] table: defaults for every pair, the mixing rule for a_ij and the per-pair overrides.
+struct PairSection {
+  Mixing mixing = Mixing::Explicit;
+  PairParams params;
+  std::vector<PairOverride> overrides;  // [[pair.override]]
+};
+
+// Fully resolved interaction of one unordered species pair (i <= j), filled by validate().
 struct PairSpec {
   int i = 0, j = 0;
   double a = 25.0, gamma = 4.5, rc = 1.0, rd = 1.0, s = 2.0;
@@ -69,7 +95,7 @@ struct DumpSpec {
   DumpFormat format = DumpFormat::Lammps;
   std::uint64_t every = 1000;
   std::vector<std::string> fields{"id", "species", "position"};  // id, species, position, velocity, force, image
-  std::string file;  // relative to the output directory; default trajectory.lammpstrj / trajectory.gsd
+  std::string file;  // relative to the output directory; validate() fills trajectory.lammpstrj / .gsd
 };
 
 struct SimulationSpec {
@@ -78,9 +104,10 @@ struct SimulationSpec {
   double kT = 1.0;                              // [system] kT
   std::uint64_t seed = 1;                       // [system] seed
   std::vector<SpeciesSpec> species;             // [[species]]
-  std::vector<PairSpec> pairs;                  // all n(n+1)/2 pairs after defaults/mixing/overrides
+  PairSection pair_section;                     // [pair] and [[pair.override]] as written
+  std::vector<PairSpec> pairs;                  // all n(n+1)/2 pairs, resolved by validate()
   std::string data_file;                        // [init] lammps_data: read particles from this file
-  bool init_velocities = true;                  // Maxwell-Boltzmann at kT unless the data file has them
+  bool init_velocities = true;                  // set by validate(): velocities == Maxwell
   VelocityInit velocities = VelocityInit::Maxwell;  // [init] velocities; init_velocities == (Maxwell)
 
   IntegratorKind integrator = IntegratorKind::GrootWarren;  // [integrator] type

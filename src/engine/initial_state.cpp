@@ -210,6 +210,18 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
   apply_maxwell(spec, shift, p);
 }
 
+std::uint64_t check_initial_state(const SimulationSpec& spec) {
+  if (spec.data_file.empty()) {
+    std::uint64_t n = 0;
+    for (const auto& s : spec.species) n += s.count;
+    return n;
+  }
+  Box box;
+  ParticleData p;
+  make_initial_state(spec, box, p);
+  return p.n_local;
+}
+
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {
   const MaxwellShift shift = maxwell_shift(spec, p.n_local, [&](auto&& f) {
     for (std::size_t i = 0; i < p.n_local; ++i) f(p.id[i], p.species[i]);

@@ -19,6 +19,12 @@ using KeepPredicate = std::function<bool(double x, double y, double z)>;
 // always read whole.
 void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {});
 
+// The pre-flight check of an initial state, shared by `mesodpd check` and the public API: with
+// init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state
+// runs (atom types, box, masses, velocities), so a run refuses nothing here that this accepted. Returns
+// the number of particles the run will start with. The spec must be validated (validate(spec)).
+std::uint64_t check_initial_state(const SimulationSpec& spec);
+
 // Draws Maxwell-Boltzmann velocities at kT, removes the centre-of-mass velocity and rescales so the
 // kinetic temperature (3N - 3 degrees of freedom) is exactly kT.
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p);

@@ -1,4 +1,5 @@
-// TOML configuration -> SimulationSpec: every key is type-checked, range-checked and named in errors.
+// TOML configuration -> SimulationSpec: unknown keys and types are checked here, ranges and derived
+// defaults by validate(spec); every error names the full key and, where the file has it, file:line:col.
 #include "io/config.hpp"
 
 #include <fmt/format.h>
@@ -15,17 +16,19 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "mesodpd/validate.hpp"
+
 namespace mesodpd {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---------------------------------------------------------------------------------------------
 // Message helpers
@@ -107,25 +110,6 @@ std::string show(const toml::node& n) {
   if (n.is_table()) return "{...}";
   return "<" + type_name(n) + ">";
 }
-
-// An allowed interval for a real value; non-finite values are always outside.
-struct Range {
-  double lo = -kInf, hi = kInf;
-  bool lo_closed = true, hi_closed = true;
-
-  bool contains(double v) const {
-    return std::isfinite(v) && (lo_closed ? v >= lo : v > lo) && (hi_closed ? v <= hi : v < hi);
-  }
-  std::string text() const {
-    if (lo == -kInf && hi == kInf) return "must be a finite number";
-    if (hi == kInf) return fmt::format("must be {} {}", lo_closed ? ">=" : ">", lo);
-    return fmt::format("must be in {}{}, {}{}", lo_closed ? '[' : '(', lo, hi, hi_closed ? ']' : ')');
-  }
-};
-constexpr Range kPositive{0.0, kInf, false, true};
-constexpr Range kNonNegative{0.0, kInf, true, true};
-constexpr Range kFinite{};
-constexpr Range kCutoff{0.0, 10.0, false, true};  // rc, rd and s share (0, 10]
 
 // ---------------------------------------------------------------------------------------------
 // Section: one TOML table plus its full dotted name. Unknown keys are rejected on construction,
@@ -209,8 +193,8 @@ class Section {
     wrong_type(key, *n, "a string");
   }
 
-  // Exactly three numbers, each inside `range`.
-  std::optional<std::array<double, 3>> vec3(std::string_view key, Range range) const {
+  // Exactly three numbers (their ranges are validate()'s).
+  std::optional<std::array<double, 3>> vec3(std::string_view key) const {
     const toml::node* n = get(key);
     if (!n) return std::nullopt;
     const toml::array* arr = n->as_array();
@@ -219,15 +203,13 @@ class Section {
     std::array<double, 3> out{};
     for (std::size_t d = 0; d < 3; ++d) {
       const toml::node& e = *arr->get(d);
-      const std::string element = fmt::format("{}[{}]", key, d);
       if (const auto* f = e.as_floating_point()) {
         out[d] = f->get();
       } else if (const auto* i = e.as_integer()) {
         out[d] = static_cast<double>(i->get());
       } else {
-        wrong_type(element, e, "a number");
+        wrong_type(fmt::format("{}[{}]", key, d), e, "a number");
       }
-      if (!range.contains(out[d])) bad(element, e, range.text());
     }
     return out;
   }
@@ -302,17 +284,8 @@ class Section {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Typed, range-checked reads
-
-std::optional<double> optional_real(const Section& s, std::string_view key, Range range) {
-  const std::optional<double> v = s.real(key);
-  if (v && !range.contains(*v)) s.bad(key, range.text());
-  return v;
-}
-
-double real_or(const Section& s, std::string_view key, double fallback, Range range) {
-  return optional_real(s, key, range).value_or(fallback);
-}
+// Typed reads. Only what the spec's types cannot hold is refused here (a negative count, an int
+// overflow); every range is validate()'s.
 
 std::optional<std::int64_t> optional_int(const Section& s, std::string_view key, std::int64_t lo,
                                          std::int64_t hi = std::numeric_limits<std::int64_t>::max()) {
@@ -322,121 +295,79 @@ std::optional<std::int64_t> optional_int(const Section& s, std::string_view key,
   return v;
 }
 
-std::uint64_t uint_or(const Section& s, std::string_view key, std::uint64_t fallback, std::int64_t lo) {
-  const auto v = optional_int(s, key, lo);
-  return v ? static_cast<std::uint64_t>(*v) : fallback;
+void read_uint(const Section& s, std::string_view key, std::uint64_t& out) {
+  if (const auto v = optional_int(s, key, 0)) out = static_cast<std::uint64_t>(*v);
 }
 
-int int_or(const Section& s, std::string_view key, int fallback, int lo) {
-  const auto v = optional_int(s, key, lo, INT_MAX);
-  return v ? static_cast<int>(*v) : fallback;
+void read_int(const Section& s, std::string_view key, int& out) {
+  if (const auto v = optional_int(s, key, INT_MIN, INT_MAX)) out = static_cast<int>(*v);
+}
+
+void read_real(const Section& s, std::string_view key, double& out) {
+  if (const auto v = s.real(key)) out = *v;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Schema, one function per table
 
-enum class Mixing { Explicit, Geometric };
-
-// Pair parameters as written in [pair] or one [[pair.override]]; nullopt means "inherit".
-struct PairKeys {
-  std::optional<double> a, gamma, sigma, rc, rd, s;
-};
-
-PairKeys read_pair_keys(const Section& s) {
-  PairKeys k;
-  k.a = optional_real(s, "a", kNonNegative);
-  k.gamma = optional_real(s, "gamma", kNonNegative);
-  k.sigma = optional_real(s, "sigma", kNonNegative);
-  k.rc = optional_real(s, "rc", kCutoff);
-  k.rd = optional_real(s, "rd", kCutoff);
-  k.s = optional_real(s, "s", kCutoff);
+PairParams read_pair_params(const Section& s) {
+  PairParams k;
+  k.a = s.real("a");
+  k.gamma = s.real("gamma");
+  k.sigma = s.real("sigma");
+  k.rc = s.real("rc");
+  k.rd = s.real("rd");
+  k.s = s.real("s");
   return k;
 }
 
 void read_system(const Section& top, SimulationSpec& spec) {
   const Section sys = top.table_or_empty("system", {"box", "kT", "seed"});
-  const auto box = sys.vec3("box", kPositive);
+  const auto box = sys.vec3("box");
   if (!box) sys.missing("box", " (three positive box lengths)");
   spec.box = *box;
-  spec.kT = real_or(sys, "kT", 1.0, kPositive);
-  spec.seed = uint_or(sys, "seed", 1, 0);
+  read_real(sys, "kT", spec.kT);
+  read_uint(sys, "seed", spec.seed);
 }
 
 void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
   const Section init = top.table_or_empty("init", {"lammps_data", "velocities"});
   if (const auto file = init.string("lammps_data")) {
     if (file->empty()) init.bad("lammps_data", "must be a non-empty path");
-    const fs::path path = fs::absolute(base_dir / fs::path(*file)).lexically_normal();
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      init.bad("lammps_data", fmt::format("no such file '{}'", path.string()));
-    spec.data_file = path.string();
+    spec.data_file = fs::absolute(base_dir / fs::path(*file)).lexically_normal().string();
   }
-  const bool has_data = !spec.data_file.empty();
   spec.velocities = init.choice<VelocityInit>("velocities", {{"maxwell", VelocityInit::Maxwell},
                                                              {"file", VelocityInit::File},
                                                              {"zero", VelocityInit::Zero}})
-                        .value_or(has_data ? VelocityInit::File : VelocityInit::Maxwell);
-  if (spec.velocities == VelocityInit::File && !has_data) {
-    init.bad("velocities", "\"file\" needs init.lammps_data to read velocities from");
-  }
-  spec.init_velocities = spec.velocities == VelocityInit::Maxwell;
+                        .value_or(spec.data_file.empty() ? VelocityInit::Maxwell : VelocityInit::File);
 }
 
-bool valid_species_name(std::string_view name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-  });
-}
-
-void read_species(const Section& top, Mixing mixing, SimulationSpec& spec) {
+void read_species(const Section& top, SimulationSpec& spec) {
   const std::vector<Section> list =
       top.tables("species", {"name", "mass", "a", "body_force", "density", "count", "placement"});
   if (list.empty()) top.missing("species", " (at least one [[species]] block is needed)");
   const bool from_data = !spec.data_file.empty();
-  const double volume = spec.box[0] * spec.box[1] * spec.box[2];
-
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    const Section& s = list[k];
+  for (const Section& s : list) {
     SpeciesSpec sp;
     const auto name = s.string("name");
     if (!name) s.missing("name");
-    if (!valid_species_name(*name)) s.bad("name", "must be non-empty and use only letters, digits and '_'");
-    for (std::size_t prev = 0; prev < k; ++prev) {
-      if (spec.species[prev].name == *name) {
-        s.bad("name", fmt::format("duplicate species name (also species[{}].name)", prev));
-      }
-    }
     sp.name = *name;
-    sp.mass = real_or(s, "mass", 1.0, kPositive);
-
-    sp.a = optional_real(s, "a", kNonNegative);
-    if (mixing == Mixing::Geometric && !sp.a) {
-      s.missing("a", " (pair.mixing = \"geometric\" needs a for every species)");
-    }
-    if (mixing == Mixing::Explicit && sp.a) {
-      s.bad("a", "only used with pair.mixing = \"geometric\"; use pair.a or [[pair.override]] instead");
-    }
-    sp.body_force = s.vec3("body_force", kFinite).value_or(std::array<double, 3>{0, 0, 0});
-
-    const auto density = optional_real(s, "density", kPositive);
+    read_real(s, "mass", sp.mass);
+    sp.a = s.real("a");
+    sp.body_force = s.vec3("body_force").value_or(std::array<double, 3>{0, 0, 0});
+    sp.density = s.real("density");
     const auto count = optional_int(s, "count", 0);
     if (from_data) {
-      // Positions, and so counts, come from the data file.
-      for (const std::string_view key : {"density", "count", "placement"}) {
+      // Positions, and so counts, come from the data file (validate() refuses a density; a count or
+      // placement, even a zero or the default one, is refused here where its presence is known).
+      for (const std::string_view key : {"count", "placement"}) {
         if (s.has(key)) s.bad(key, "not allowed with init.lammps_data (particles come from the data file)");
       }
     } else {
-      if (density && count)
+      if (sp.density && count)
         s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
-      if (!density && !count) s.missing("density", fmt::format(" (or {})", s.name("count")));
-      if (density) {
-        const double n = std::round(*density * volume);
-        if (n > 1.0e15) s.bad("density", fmt::format("gives {:.3g} particles in the box; too many", n));
-        sp.count = static_cast<std::uint64_t>(n);
-      } else {
-        sp.count = static_cast<std::uint64_t>(*count);
-      }
+      if (!sp.density && !count) s.missing("density", fmt::format(" (or {})", s.name("count")));
+      if (count) sp.count = static_cast<std::uint64_t>(*count);
     }
     sp.placement =
         s.choice<Placement>("placement", {{"random", Placement::Random}, {"lattice", Placement::Lattice}})
@@ -445,75 +376,19 @@ void read_species(const Section& top, Mixing mixing, SimulationSpec& spec) {
   }
 }
 
-// Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
-void resolve_pairs(const Section& pair, const PairKeys& base, Mixing mixing, SimulationSpec& spec) {
-  const std::size_t n = spec.species.size();
-  const std::vector<Section> overrides =
-      pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s"});
-  std::vector<PairKeys> keys;
-  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-  std::vector<std::size_t> override_of(n * n, kNone);  // override index for (i, j), i <= j
-
-  std::vector<std::string_view> names;
-  for (const SpeciesSpec& sp : spec.species) names.push_back(sp.name);
-  for (std::size_t k = 0; k < overrides.size(); ++k) {
-    const Section& o = overrides[k];
-    const auto pair_names = o.strings("species");
-    if (!pair_names) o.missing("species", " (the two species names of the pair)");
-    if (pair_names->size() != 2) o.bad("species", "must name exactly two species");
-    std::array<std::size_t, 2> id{};
-    for (std::size_t e = 0; e < 2; ++e) {
-      const auto it = std::find(names.begin(), names.end(), (*pair_names)[e]);
-      if (it == names.end()) {
-        o.bad("species",
-              fmt::format("unknown species \"{}\" (defined: {})", (*pair_names)[e], join(names, "\"")));
-      }
-      id[e] = static_cast<std::size_t>(it - names.begin());
-    }
-    std::size_t& slot = override_of[std::min(id[0], id[1]) * n + std::max(id[0], id[1])];
-    if (slot != kNone)
-      o.bad("species", fmt::format("this pair is already set by {}", overrides[slot].path()));
-    slot = k;
-    keys.push_back(read_pair_keys(o));
-  }
-
-  spec.pairs.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = i; j < n; ++j) {
-      const std::size_t k = override_of[i * n + j];
-      const PairKeys* ov = k != kNone ? &keys[k] : nullptr;
-      const auto pick = [&](std::optional<double> PairKeys::*member) {
-        return ov && (ov->*member) ? ov->*member : base.*member;
-      };
-      PairSpec p;
-      p.i = static_cast<int>(i);
-      p.j = static_cast<int>(j);
-      if (ov && ov->a) {
-        p.a = *ov->a;
-      } else if (mixing == Mixing::Geometric) {
-        p.a = std::sqrt(*spec.species[i].a * *spec.species[j].a);  // seed 002 Eq. 4
-      } else {
-        p.a = base.a.value_or(25.0);
-      }
-      p.gamma = pick(&PairKeys::gamma).value_or(4.5);
-      p.rc = pick(&PairKeys::rc).value_or(1.0);
-      p.rd = pick(&PairKeys::rd).value_or(p.rc);  // rd follows this pair's rc unless set
-      p.s = pick(&PairKeys::s).value_or(2.0);
-
-      // sigma is not independent: fluctuation-dissipation fixes sigma^2 = 2 gamma kT (seed 000 Eq. 7).
-      if (const auto sigma = pick(&PairKeys::sigma)) {
-        const Section& from = ov && ov->sigma ? overrides[k] : pair;
-        const std::string gamma_key = ov && ov->gamma ? overrides[k].name("gamma") : pair.name("gamma");
-        const double lhs = *sigma * *sigma, rhs = 2.0 * p.gamma * spec.kT;
-        if (std::abs(lhs - rhs) > 1e-6 * std::max(lhs, rhs)) {
-          from.bad("sigma",
-                   fmt::format("inconsistent with {} = {} and system.kT = {} for species pair ({}, {}): "
-                               "sigma^2 = 2 gamma kT requires sigma = {} (seed 000 Eq. 7)",
-                               gamma_key, p.gamma, spec.kT, names[i], names[j], std::sqrt(rhs)));
-        }
-      }
-      spec.pairs.push_back(p);
-    }
+void read_pair(const Section& top, SimulationSpec& spec) {
+  const Section pair = top.table_or_empty("pair", {"a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
+  PairSection& sec = spec.pair_section;
+  sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
+                   .value_or(Mixing::Explicit);
+  sec.params = read_pair_params(pair);
+  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s"})) {
+    PairOverride ov;
+    auto names = o.strings("species");
+    if (!names) o.missing("species", " (the two species names of the pair)");
+    ov.species = std::move(*names);
+    ov.params = read_pair_params(o);
+    sec.overrides.push_back(std::move(ov));
   }
 }
 
@@ -522,8 +397,8 @@ void read_integrator(const Section& top, SimulationSpec& spec) {
   spec.integrator = s.choice<IntegratorKind>("type", {{"groot-warren", IntegratorKind::GrootWarren},
                                                       {"euler", IntegratorKind::Euler}})
                         .value_or(IntegratorKind::GrootWarren);
-  spec.dt = real_or(s, "dt", 0.04, Range{0.0, 0.5, false, true});
-  spec.lambda = real_or(s, "lambda", 0.5, Range{0.0, 1.0, true, true});
+  read_real(s, "dt", spec.dt);
+  read_real(s, "lambda", spec.lambda);
   if (spec.integrator == IntegratorKind::Euler && s.has("lambda")) {
     s.bad("lambda", "only used by integrator.type = \"groot-warren\", not \"euler\"");
   }
@@ -531,12 +406,12 @@ void read_integrator(const Section& top, SimulationSpec& spec) {
 
 void read_run(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "threads"});
-  spec.steps = uint_or(s, "steps", 1000, 0);
+  read_uint(s, "steps", spec.steps);
   spec.noise = s.choice<NoiseDistribution>("noise", {{"uniform", NoiseDistribution::Uniform},
                                                      {"gaussian", NoiseDistribution::Gaussian}})
                    .value_or(NoiseDistribution::Uniform);
-  spec.max_velocity = real_or(s, "max_velocity", 1.0e3, kPositive);
-  spec.threads = int_or(s, "threads", 0, 0);
+  read_real(s, "max_velocity", spec.max_velocity);
+  read_int(s, "threads", spec.threads);
 }
 
 void read_neighbor(const Section& top, SimulationSpec& spec) {
@@ -544,24 +419,25 @@ void read_neighbor(const Section& top, SimulationSpec& spec) {
   spec.neighbor = s.choice<NeighborMethod>(
                        "method", {{"verlet", NeighborMethod::Verlet}, {"cells", NeighborMethod::Cells}})
                       .value_or(NeighborMethod::Cells);
-  spec.skin = real_or(s, "skin", 0.3, Range{0.0, 2.0, true, true});
+  read_real(s, "skin", spec.skin);
 }
 
 void read_parallel(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("parallel", {"grid"});
-  if (const auto g = s.vec3("grid", Range{0.0, 65536.0, true, true})) {
+  if (const auto g = s.vec3("grid")) {
     for (std::size_t d = 0; d < 3; ++d) {
-      if ((*g)[d] != static_cast<double>(static_cast<int>((*g)[d])))
-        s.bad("grid", fmt::format("element {} is {}, not a whole number of ranks (0 = choose)", d, (*g)[d]));
-      spec.parallel_grid[d] = static_cast<int>((*g)[d]);
+      const double v = (*g)[d];
+      if (!(std::abs(v) <= INT_MAX) || v != std::trunc(v))
+        s.bad("grid", fmt::format("element {} is {}, not a whole number of ranks (0 = choose)", d, v));
+      spec.parallel_grid[d] = static_cast<int>(v);
     }
   }
 }
 
 void read_output(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("output", {"thermo_every", "checkpoint_every", "progress", "dump"});
-  spec.thermo_every = uint_or(s, "thermo_every", 100, 1);
-  spec.checkpoint_every = uint_or(s, "checkpoint_every", 0, 0);
+  read_uint(s, "thermo_every", spec.thermo_every);
+  read_uint(s, "checkpoint_every", spec.checkpoint_every);
   spec.progress = s.boolean("progress").value_or(true);
 
   const auto dump = s.table("dump", {"format", "every", "fields", "file"});
@@ -570,29 +446,12 @@ void read_output(const Section& top, SimulationSpec& spec) {
   d.enabled = true;
   d.format = dump->choice<DumpFormat>("format", {{"lammps", DumpFormat::Lammps}, {"gsd", DumpFormat::Gsd}})
                  .value_or(DumpFormat::Lammps);
-  d.every = uint_or(*dump, "every", 1000, 1);
-  if (auto fields = dump->strings("fields")) {
-    static const std::vector<std::string_view> kFields{"id",       "species", "position",
-                                                       "velocity", "force",   "image"};
-    if (fields->empty())
-      dump->bad("fields", fmt::format("must list at least one of {}", join(kFields, "\"")));
-    for (std::size_t k = 0; k < fields->size(); ++k) {
-      const std::string& f = (*fields)[k];
-      if (std::find(kFields.begin(), kFields.end(), f) == kFields.end()) {
-        dump->bad("fields", fmt::format("unknown field \"{}\" (allowed: {})", f, join(kFields, "\"")));
-      }
-      if (std::find(fields->begin(), fields->begin() + static_cast<std::ptrdiff_t>(k), f) !=
-          fields->begin() + static_cast<std::ptrdiff_t>(k)) {
-        dump->bad("fields", fmt::format("field \"{}\" is listed twice", f));
-      }
-    }
-    d.fields = std::move(*fields);
-  }
+  read_uint(*dump, "every", d.every);
+  if (auto fields = dump->strings("fields")) d.fields = std::move(*fields);
   if (auto file = dump->string("file")) {
+    // An empty name in the spec means "the default"; written in the file it is a mistake.
     if (file->empty()) dump->bad("file", "must be a non-empty file name");
     d.file = std::move(*file);
-  } else {
-    d.file = d.format == DumpFormat::Gsd ? "trajectory.gsd" : "trajectory.lammpstrj";
   }
 }
 
@@ -602,62 +461,65 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
   if (!s) return;
   PoiseuilleSpec& p = spec.poiseuille;
   p.enabled = true;
-  const auto force = optional_real(*s, "force", kFinite);
+  const auto force = s->real("force");
   if (!force) s->missing("force", " (the body acceleration g of reverse Poiseuille flow)");
-  if (*force == 0.0) s->bad("force", "must be non-zero");
   p.force = *force;
   const std::initializer_list<std::pair<std::string_view, int>> axes{{"x", 0}, {"y", 1}, {"z", 2}};
   p.flow_axis = s->choice<int>("flow_axis", axes).value_or(0);
   p.gradient_axis = s->choice<int>("gradient_axis", axes).value_or(2);
-  if (p.flow_axis == p.gradient_axis) {
-    const std::string why =
-        fmt::format("must differ from {} (\"{}\")", s->name("flow_axis"), "xyz"[p.flow_axis]);
-    if (s->has("gradient_axis")) s->bad("gradient_axis", why);
-    throw ConfigError(fmt::format("{}{} = \"z\" (default): {}", s->at(s->get("flow_axis")->source()),
-                                  s->name("gradient_axis"), why));
-  }
-  p.bins = int_or(*s, "bins", 40, 4);
-  if (p.bins % 2 != 0) s->bad("bins", "must be even (the two flow halves get equal bins)");
-  p.start = uint_or(*s, "start", 0, 0);
-  p.every = uint_or(*s, "every", 1, 1);
-  p.blocks = int_or(*s, "blocks", 10, 2);
+  read_int(*s, "bins", p.bins);
+  read_uint(*s, "start", p.start);
+  read_uint(*s, "every", p.every);
+  read_int(*s, "blocks", p.blocks);
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("analysis", {"rdf", "msd"});
   if (const auto rdf = s.table("rdf", {"bins", "rmax", "start", "every"})) {
     spec.rdf.enabled = true;
-    spec.rdf.bins = int_or(*rdf, "bins", 100, 1);
-    spec.rdf.rmax = real_or(*rdf, "rmax", 3.0, kPositive);
-    const double half_box = 0.5 * std::min({spec.box[0], spec.box[1], spec.box[2]});
-    if (!(spec.rdf.rmax < half_box)) {
-      const std::string why = fmt::format("must be < half the smallest box length ({})", half_box);
-      if (rdf->has("rmax")) rdf->bad("rmax", why);
-      throw ConfigError(
-          fmt::format("{}{} = {} (default): {}", rdf->at({}), rdf->name("rmax"), spec.rdf.rmax, why));
-    }
-    spec.rdf.start = uint_or(*rdf, "start", 0, 0);
-    spec.rdf.every = uint_or(*rdf, "every", 100, 1);
+    read_int(*rdf, "bins", spec.rdf.bins);
+    read_real(*rdf, "rmax", spec.rdf.rmax);
+    read_uint(*rdf, "start", spec.rdf.start);
+    read_uint(*rdf, "every", spec.rdf.every);
   }
   if (const auto msd = s.table("msd", {"start", "every"})) {
     spec.msd.enabled = true;
-    spec.msd.start = uint_or(*msd, "start", 0, 0);
-    spec.msd.every = uint_or(*msd, "every", 100, 1);
+    read_uint(*msd, "start", spec.msd.start);
+    read_uint(*msd, "every", spec.msd.every);
   }
 }
 
-// Minimum image needs every box length to be at least twice the longest interaction range.
-void check_box(const Section& top, const SimulationSpec& spec) {
-  double cutoff = 0.0;
-  for (const PairSpec& p : spec.pairs) cutoff = std::max({cutoff, p.rc, p.rd});
-  for (int d = 0; d < 3; ++d) {
-    if (spec.box[static_cast<std::size_t>(d)] < 2.0 * cutoff) {
-      const Section sys = top.table_or_empty("system", {"box", "kT", "seed"});
-      sys.bad("box",
-              fmt::format("every length must be >= 2 x the largest cutoff (max rc, rd = {}), i.e. >= {}",
-                          cutoff, 2.0 * cutoff));
-    }
+// Where each key of the file is: "system.box", "system.box[2]", "pair.override[1].rd", ... as
+// validate() names them, so its errors get the file:line:col of the key they name.
+using Positions = std::map<std::string, toml::source_region, std::less<>>;
+
+void record_positions(const toml::node& node, const std::string& name, Positions& out) {
+  if (!name.empty()) out.emplace(name, node.source());
+  if (const toml::table* t = node.as_table()) {
+    for (const auto& [key, value] : *t)
+      record_positions(value, name.empty() ? std::string(key.str()) : fmt::format("{}.{}", name, key.str()), out);
+  } else if (const toml::array* a = node.as_array()) {
+    for (std::size_t k = 0; k < a->size(); ++k) record_positions(*a->get(k), fmt::format("{}[{}]", name, k), out);
   }
+}
+
+// validate()'s error with the position of its key, or of the nearest enclosing table written in the
+// file; a value the file does not set is marked "(default)".
+ConfigError located(const SpecError& e, const Positions& positions, const std::string& source) {
+  const auto written = positions.find(e.key());
+  std::string_view scope = e.key();
+  auto at = written;
+  while (at == positions.end() && !scope.empty()) {
+    const std::size_t cut = scope.find_last_of(".[");
+    scope = cut == std::string_view::npos ? std::string_view{} : scope.substr(0, cut);
+    if (!scope.empty()) at = positions.find(scope);
+  }
+  std::string where = source + ": ";
+  if (at != positions.end() && at->second.begin.line != 0)
+    where = fmt::format("{}:{}:{}: ", source, at->second.begin.line, at->second.begin.column);
+  if (e.value().empty()) return ConfigError(fmt::format("{}{}: {}", where, e.key(), e.why()));
+  return ConfigError(fmt::format("{}{} = {}{}: {}", where, e.key(), e.value(),
+                                 written == positions.end() ? " (default)" : "", e.why()));
 }
 
 }  // namespace
@@ -683,19 +545,8 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   spec.source = source_name;
   read_system(top, spec);
   read_init(top, base_dir, spec);
-
-  const Section pair =
-      top.table_or_empty("pair", {"a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
-  const Mixing mixing =
-      pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
-          .value_or(Mixing::Explicit);
-  const PairKeys base = read_pair_keys(pair);
-  if (mixing == Mixing::Geometric && base.a) {
-    pair.bad("a", "not used with pair.mixing = \"geometric\" (a_ij = sqrt(a_i a_j) from species[].a)");
-  }
-  read_species(top, mixing, spec);
-  resolve_pairs(pair, base, mixing, spec);
-
+  read_species(top, spec);
+  read_pair(top, spec);
   read_integrator(top, spec);
   read_run(top, spec);
   read_neighbor(top, spec);
@@ -703,7 +554,13 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   read_output(top, spec);
   read_poiseuille(top, spec);
   read_analysis(top, spec);
-  check_box(top, spec);
+  try {
+    validate(spec);
+  } catch (const SpecError& e) {
+    Positions positions;
+    record_positions(root, "", positions);
+    throw located(e, positions, source_name);
+  }
   return spec;
 }
 

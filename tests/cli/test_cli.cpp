@@ -502,6 +502,56 @@ TEST(Cli, DataFileWithoutVelocitiesNeedsAnotherVelocityInit) {
   }
 }
 
+// `check` refuses what `run` refuses before its first step, with the same message, for every refusal
+// that does not depend on the MPI rank count (issue: check called 10^12 particles valid).
+TEST(Cli, CheckRefusesWhatRunRefuses) {
+  const fs::path dir = work_dir();
+  write_text(dir / "heavy.data", std::string(kDataHeader).replace(std::string(kDataHeader).find("1 1.0"), 5, "1 2.0") +
+                                     "Atoms # atomic\n\n1 1 0.0 0.0 0.0\n2 2 1.0 0.0 0.0\n3 1 0.0 1.0 0.0\n4 2 0.0 0.0 1.0\n");
+  write_text(dir / "plain.data", grid_data(false));
+  const std::string a = "[[species]]\nname = \"A\"\ndensity = 3.0\n";
+  struct Case {
+    std::string name, config;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {"10^12 particles", "[system]\nbox = [10000.0, 10000.0, 10000.0]\n[[species]]\nname = \"A\"\ndensity = 1.0\n",
+       {"species[0].density", "32-bit"}},
+      {"ids overflow over two species",
+       "[system]\nbox = [5.0, 5.0, 5.0]\n[[species]]\nname = \"A\"\ncount = 3000000000\n"
+       "[[species]]\nname = \"B\"\ncount = 2000000000\n",
+       {"species[1].count", "5000000000"}},
+      {"cutoff of an override beyond half the box",
+       "[system]\nbox = [5.0, 5.0, 5.0]\n" + a + "[[pair.override]]\nspecies = [\"A\", \"A\"]\nrd = 3.0\n",
+       {"system.box", ">= 6"}},
+      {"run.threads", small_config("", "steps = 2\nthreads = 100000"), {"run.threads", "1024"}},
+      {"grid finer than the cells", "[system]\nbox = [3.5, 5.0, 5.0]\n" + a + "[parallel]\ngrid = [4, 1, 1]\n",
+       {"parallel.grid[0]", "fewer than 3 cells"}},
+      {"split run with a box axis under 3 cells", "[system]\nbox = [2.5, 10.0, 10.0]\n" + a + "[parallel]\ngrid = [1, 2, 0]\n",
+       {"system.box[0]", "3 cells"}},
+      {"cells beyond what any rank count can index",
+       "[system]\nbox = [100000.0, 100000.0, 100000.0]\n[[species]]\nname = \"A\"\ncount = 10\n",
+       {"system.box", "neighbour cells"}},
+      {"default rdf range beyond half the box", small_config("[analysis.rdf]\n"), {"analysis.rdf.rmax", "(default)"}},
+      {"data file mass differs", two_species_data_config("heavy.data"), {"species[0].mass", "heavy.data"}},
+      {"data file without velocities", two_species_data_config("plain.data"), {"init.velocities", "plain.data"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    write_text(dir / "bad.toml", c.config);
+    const CliResult checked = mesodpd(dir, "check bad.toml");
+    const CliResult ran = mesodpd(dir, "run bad.toml --out out --no-progress");
+    EXPECT_EQ(checked.code, 2) << checked.out << checked.err;
+    EXPECT_EQ(ran.code, 2) << ran.out << ran.err;
+    EXPECT_EQ(checked.err, ran.err);
+    ASSERT_EQ(lines_of(checked.err).size(), 1u) << checked.err;
+    for (const auto& word : c.expect) EXPECT_NE(checked.err.find(word), std::string::npos) << word << " not in " << checked.err;
+  }
+  // A grid that only the rank count can refuse is left to `run`: on one rank, `check` accepts it.
+  write_text(dir / "grid.toml", "[system]\nbox = [5.0, 5.0, 5.0]\n" + a + "[parallel]\ngrid = [4, 1, 1]\n");
+  EXPECT_EQ(mesodpd(dir, "check grid.toml").code, 0);
+}
+
 // Uninterrupted run to step 30 against 10 steps then a restart to 30, for both neighbour methods.
 TEST(Cli, RestartContinuesBitIdentically) {
   const fs::path dir = work_dir();

@@ -1,0 +1,100 @@
+// The public simulation object: build a run from a SimulationSpec, advance it, read its state. A thin
+// facade over the engine (src/engine/simulation.hpp); a program or the Python module needs only the
+// headers in include/mesodpd/. Units: DPD reduced units throughout (lengths in r_c, masses in particle
+// mass, energies in k_BT, time in r_c sqrt(m / k_BT)).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "mesodpd/spec.hpp"
+#include "mesodpd/validate.hpp"
+
+namespace mesodpd::api {
+
+// How a run is driven; the physics is all in the spec.
+struct Options {
+  std::filesystem::path output_dir;          // thermo.csv, trajectory, analyses, checkpoint; empty: no files
+  std::filesystem::path restart;             // continue from this checkpoint file; empty: a new run
+  std::optional<std::uint64_t> final_step;   // where run() stops, instead of spec.steps
+  bool progress = false;                     // progress bar on the terminal
+};
+
+// The run went unstable (NaN, or a particle faster than spec.max_velocity); the state is that of the
+// failed step.
+class BlowUpError : public std::runtime_error {
+ public:
+  BlowUpError(const std::string& what, std::uint64_t step, std::uint32_t particle_id)
+      : std::runtime_error(what), step_(step), id_(particle_id) {}
+  std::uint64_t step() const { return step_; }
+  std::uint32_t particle_id() const { return id_; }
+
+ private:
+  std::uint64_t step_;
+  std::uint32_t id_;
+};
+
+// Instantaneous thermodynamic state of the whole system (all ranks).
+struct Thermo {
+  std::uint64_t step = 0;
+  double time = 0.0;                        // step x dt
+  double temperature = 0.0;                 // k_B T from sum m v^2 / (3N - 3), in units of energy
+  double temperature_transverse = 0.0;      // the same without the flow axis of a Poiseuille run
+  double pressure = 0.0;                    // trace / 3 of the pressure tensor (seed 000 Eqs. 11-12)
+  std::array<double, 6> pressure_tensor{};  // xx yy zz xy xz yz: (sum m v v + sum r_ij F_ij) / V
+  double pressure_conservative = 0.0;       // kinetic + conservative virial only
+  std::array<double, 3> momentum{};         // total momentum sum m v
+  double potential_energy = 0.0;            // total conservative pair energy
+  double kinetic_energy = 0.0;              // total sum m v^2 / 2
+};
+
+// Read-only views of this rank's owned particles, in storage order (not id order: the engine sorts
+// particles by cell). Valid until the next call that advances the simulation.
+struct Particles {
+  std::span<const std::uint32_t> id;          // global id, 1..N, stable for the whole run
+  std::span<const std::int32_t> species;      // index into spec.species
+  std::span<const double> x, y, z;            // positions, wrapped into [0, box)
+  std::span<const double> vx, vy, vz;         // velocities
+  std::span<const double> fx, fy, fz;         // total force of the last force evaluation
+  std::span<const std::int32_t> ix, iy, iz;   // image counters: unwrapped x = x + ix * box[0]
+};
+
+class Simulation {
+ public:
+  // Validates `spec` (validate(); throws SpecError naming the key) and builds the initial state with
+  // the forces of step 0 (throws ConfigError for a data file or checkpoint that does not fit). Sets
+  // the OpenMP thread count when spec.threads > 0. Under MPI, initialise MPI first (every rank
+  // constructs the same Simulation); without it the run is serial.
+  explicit Simulation(SimulationSpec spec, Options options = {});
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  // Advances `steps` time steps, measuring and writing output as the spec says. Throws BlowUpError.
+  void step(std::uint64_t steps = 1);
+  // Advances to final_step(), then writes the final checkpoint and the analysis summaries (with an
+  // output_dir). Returns the human-readable summary (mean temperature, viscosity, ...).
+  std::string run();
+
+  const SimulationSpec& spec() const;  // as validated
+  std::uint64_t current_step() const;
+  std::uint64_t final_step() const;
+  double time() const;                         // current_step() x dt
+  std::array<double, 3> box() const;           // box lengths
+  std::uint64_t total_particles() const;       // over all ranks
+  Particles particles() const;                 // this rank's owned particles
+  Thermo thermo();                             // collective under MPI: every rank calls it
+  // The full dynamic state; a run restarted from it (Options::restart) continues bit-identically.
+  void write_checkpoint(const std::filesystem::path& file) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mesodpd::api

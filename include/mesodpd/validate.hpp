@@ -1,0 +1,38 @@
+// validate(spec): the one place where a SimulationSpec's ranges, cross-checks and derived defaults live,
+// for a spec read from TOML (io/config calls it) and for one built in C++ alike.
+#pragma once
+#include <string>
+
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+// The most OpenMP threads a run accepts (run.threads, --threads): more is a typo, not a request.
+inline constexpr int kMaxThreads = 1024;
+
+// A problem with one key of a spec. `key` is the full key as the TOML schema spells it
+// ("pair.override[1].rd", "system.box[2]"), `value` the offending value as text (empty when the key
+// is absent), `why` what is wrong or allowed. what() is "key = value: why" ("key: why" without a
+// value); the TOML reader prefixes the key's file:line:col.
+class SpecError : public ConfigError {
+ public:
+  SpecError(std::string key, std::string value, std::string why);
+  const std::string& key() const { return key_; }
+  const std::string& value() const { return value_; }
+  const std::string& why() const { return why_; }
+
+ private:
+  std::string key_, value_, why_;
+};
+
+// Checks every value of `spec` against its allowed range and the others it depends on, and fills what
+// follows from other values: species counts from densities, the resolved `pairs` table from
+// `pair_section` (overrides, mixing, rd = rc), `init_velocities`, the default dump file name. Also
+// refuses, before anything is built, what the engine would refuse at construction whatever the MPI
+// rank count: more particles than 32-bit ids allow, a box shorter than twice the largest cutoff, a
+// parallel.grid the cell grid cannot be split into. Idempotent: validating a validated spec changes
+// nothing. Throws SpecError naming the key. Reading init.lammps_data itself is left to the engine
+// (see check_initial_state in src/engine/initial_state.hpp); validate only checks the file exists.
+void validate(SimulationSpec& spec);
+
+}  // namespace mesodpd
