@@ -69,6 +69,7 @@ int run_command(const std::string& config, const std::string& out, int threads, 
     const double steps_done = static_cast<double>(sim.final_step() - first);
     if (comm.root()) {
       fmt::print("{}", summary);
+      for (const std::string& w : sim.warnings()) fmt::print(stderr, "warning: {}\n", w);
       fmt::print("done: {} steps in {:.1f} s ({:.3g} particle-steps/s)\n", sim.final_step() - first, secs,
                  steps_done * static_cast<double>(sim.total_particles()) / secs);
     }

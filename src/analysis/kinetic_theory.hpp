@@ -1,6 +1,9 @@
 // Kinetic-theory estimates (g(r) = 1) of DPD transport coefficients, used to check measured values.
 #pragma once
 #include <numbers>
+#include <string>
+
+#include "mesodpd/spec.hpp"
 
 namespace mesodpd {
 
@@ -25,6 +28,45 @@ inline double kinetic_dissipative_viscosity(double rho, double gamma, double rd,
 inline double kinetic_viscosity(double rho, double gamma, double kT, double rd, double s) {
   return rho * kinetic_diffusivity(rho, gamma, kT, rd, s) / 2.0 +
          kinetic_dissipative_viscosity(rho, gamma, rd, s);
+}
+
+// The kinetic-theory viscosity of a run's fluid, or the reason it has none. The formulas above are for
+// one species of unit mass; they do not involve the conservative force (g(r) = 1). So a mixture whose
+// species all have unit mass and whose pairs all share gamma, r_d and s (only a differs, the usual way
+// to make species immiscible) is, to kinetic theory, that one fluid, and gets its value. Pairs that
+// differ in gamma, r_d or s, or masses other than 1, would need a mixture theory (per-species friction
+// and cross terms) that we do not implement: then `applies` is false and `why_not` says why, rather than
+// quoting the (0, 0) pair's value as if it described the whole fluid.
+struct KineticViscosity {
+  bool applies = false;
+  double eta = 0.0;                  // seed 000 Eq. 16 / Table 1 with the shared pair parameters
+  double gamma = 0.0, rd = 0.0, s = 0.0;  // the shared pair parameters (where `applies`)
+  std::string why_not;
+};
+
+inline KineticViscosity kinetic_viscosity_of(const SimulationSpec& spec, double rho) {
+  KineticViscosity out;
+  const int n = static_cast<int>(spec.species.size());
+  for (int a = 0; a < n; ++a)
+    if (spec.species[static_cast<std::size_t>(a)].mass != 1.0) {
+      out.why_not = "species masses other than 1";
+      return out;
+    }
+  const PairSpec& first = spec.pair(0, 0);
+  for (int a = 0; a < n; ++a)
+    for (int b = a; b < n; ++b) {
+      const PairSpec& p = spec.pair(a, b);
+      if (p.gamma != first.gamma || p.rd != first.rd || p.s != first.s) {
+        out.why_not = "species pairs with different gamma, r_d or s";
+        return out;
+      }
+    }
+  out.applies = true;
+  out.gamma = first.gamma;
+  out.rd = first.rd;
+  out.s = first.s;
+  out.eta = kinetic_viscosity(rho, first.gamma, spec.kT, first.rd, first.s);
+  return out;
 }
 
 }  // namespace mesodpd

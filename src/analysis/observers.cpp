@@ -3,7 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <span>
 
 #include "analysis/kinetic_theory.hpp"
@@ -11,6 +15,7 @@
 #include "analysis/thermo.hpp"
 #include "io/atomic_file.hpp"
 #include "io/frame.hpp"
+#include "io/json_number.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/halo.hpp"
 
@@ -69,12 +74,32 @@ void trim_lammps_dump(const std::filesystem::path& path, std::uint64_t last_step
 
 }  // namespace
 
+std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
+                                               std::uint64_t samples) {
+  const double deviation = mean_t / spec.kT - 1.0;
+  // Canonical fluctuations alone move a mean of independent samples by about sqrt(2 / dof / samples)
+  // (relative); three of those are added so that a small system is not flagged for its noise.
+  const double noise = 3.0 * std::sqrt(2.0 / std::max(dof, 1.0) / static_cast<double>(std::max<std::uint64_t>(samples, 1)));
+  if (!(std::fabs(deviation) > kTemperatureTolerance + noise)) return std::nullopt;
+  std::string advice = fmt::format("reduce integrator.dt (now {})", spec.dt);
+  if (spec.integrator == IntegratorKind::GrootWarren && deviation > 0 && spec.lambda < 0.65)
+    advice += fmt::format(" or raise integrator.lambda (now {}; 0.65 keeps kT within 1% up to dt = 0.06 at rho = 3, "
+                          "docs/validation.md)", spec.lambda);
+  if (spec.integrator == IntegratorKind::Euler) advice += " or use integrator.type = \"groot-warren\"";
+  return fmt::format("over the second half of the run the mean temperature {:.4g} is {:.1f}% {} the target kT = {} "
+                     "(tolerance {:.0f}%): the time step is too large for these forces, or the run too short to "
+                     "relax from its initial state; {}, or run longer",
+                     mean_t, 100 * std::fabs(deviation), deviation > 0 ? "above" : "below", spec.kT,
+                     100 * kTemperatureTolerance, advice);
+}
+
 Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, const StepContext& start)
     : spec_(spec), opt_(std::move(settings)) {
   const SimulationSpec& s = spec_;
   const Comm& comm = start.comm;
   const bool restarted = opt_.restarted;
   if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
+  late_from_ = start.step + (opt_.final_step > start.step ? (opt_.final_step - start.step) / 2 : 0);
   if (opt_.out_dir.empty()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
@@ -206,6 +231,10 @@ void Observers::observe(const StepContext& ctx) {
       thermo_.flush();
     }
     temperature_sum_ += t.temperature_transverse;
+    if (step > late_from_) {
+      late_temperature_sum_ += t.temperature_transverse;
+      ++late_samples_;
+    }
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
   }
@@ -257,31 +286,54 @@ std::string Observers::finish(const StepContext& ctx) {
   const SimulationSpec& s = spec_;
   std::string summary;
   if (!ctx.comm.root()) return summary;
-  if (thermo_samples_ > 0)
+  if (thermo_samples_ > 0) {
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
                            s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
+  }
+  if (late_samples_ > 0) {
+    // Judged on the second half of this run's rows: a random initial placement heats the fluid for
+    // the first few time units, which is not the integrator's steady error.
+    const double late_t = late_temperature_sum_ / static_cast<double>(late_samples_);
+    const double n = static_cast<double>(ctx.total_particles);
+    const double dof = s.poiseuille.enabled ? 2 * n - 2 : 3 * n - 3;  // of the measured temperature
+    if (auto w = temperature_warning(late_t, s, dof, late_samples_)) {
+      summary += "warning: " + *w + "\n";
+      warnings_.push_back(*w);
+    }
+  }
   if (profile_) {
     const double rho = static_cast<double>(ctx.total_particles) / ctx.box.volume();
-    const PairSpec& pp = s.pair(0, 0);
-    const double eta_theory = kinetic_viscosity(rho, pp.gamma, s.kT, pp.rd, pp.s);
+    // Kinetic theory only where one set of pair parameters describes the fluid (kinetic_theory.hpp).
+    const KineticViscosity theory = kinetic_viscosity_of(s, rho);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double eta_theory = theory.applies ? theory.eta : nan;
+    const std::string theory_text =
+        theory.applies ? fmt::format("kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f}", theory.eta)
+                       : fmt::format("no kinetic-theory value for {}", theory.why_not);
+    // One `a` for the plot's legend where all pairs share it.
+    bool one_a = true;
+    for (const PairSpec& q : s.pairs) one_a = one_a && q.a == s.pairs.front().a;
     if (profile_->samples() < 2) {
       summary += "reverse Poiseuille: too few profile samples for a viscosity (run longer than poiseuille.start)\n";
     } else {
       const ViscosityFit fit = profile_->fit();
       summary += fmt::format(
-          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} (kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f})\n",
-          fit.eta, fit.eta_err, eta_theory);
+          "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} ({})\n", fit.eta, fit.eta_err, theory_text);
       profile_->write_csv(out("poiseuille_profile.csv").string());
       write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
-      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) {
-        os << fmt::format(
-            "{{\n  \"eta\": {:.8g},\n  \"eta_err\": {:.8g},\n  \"eta_kinetic_theory\": {:.8g},\n  \"blocks\": {},\n"
-            "  \"samples\": {},\n  \"density\": {:.8g},\n  \"gamma\": {:.8g},\n  \"s\": {:.8g},\n  \"force\": {:.8g}\n}}\n",
-            fit.eta, fit.eta_err, eta_theory, fit.blocks_used, profile_->samples(), rho, pp.gamma, pp.s,
-            s.poiseuille.force);
-      });
+      nlohmann::ordered_json summary_json;  // keys in the order written
+      summary_json["eta"] = json_number(fit.eta);
+      summary_json["eta_err"] = json_number(fit.eta_err);
+      summary_json["eta_kinetic_theory"] = json_number(eta_theory);
+      summary_json["blocks"] = fit.blocks_used;
+      summary_json["samples"] = profile_->samples();
+      summary_json["density"] = json_number(rho);
+      summary_json["gamma"] = theory.applies ? json_number(theory.gamma) : nullptr;
+      summary_json["s"] = theory.applies ? json_number(theory.s) : nullptr;
+      summary_json["force"] = json_number(s.poiseuille.force);
+      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) { os << summary_json.dump(2) << '\n'; });
       SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
       SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
       const char* axes = "xyz";
@@ -289,9 +341,13 @@ std::string Observers::finish(const StepContext& ctx) {
                      fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
                      fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
                      {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
-                      fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", eta_theory),
-                      fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho, pp.a,
-                                  pp.gamma, pp.s, s.poiseuille.force)});
+                      theory.applies ? fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", theory.eta)
+                                     : fmt::format("kinetic theory: none for {}", theory.why_not),
+                      theory.applies && one_a
+                          ? fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho,
+                                        s.pairs.front().a, theory.gamma, theory.s, s.poiseuille.force)
+                          : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
+                                        s.poiseuille.force)});
     }
   }
   if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());

@@ -20,6 +20,17 @@
 
 namespace mesodpd {
 
+// A run whose mean measured temperature over the second half of its thermo rows leaves k_BT by more
+// than this (relative) gets a warning.
+// The Groot-Warren integrator at lambda = 0.5 runs 2.3% warm at the standard dt = 0.04 and 4.5% at
+// dt = 0.06 (docs/validation.md), so 5% flags time steps beyond what the scheme handles.
+inline constexpr double kTemperatureTolerance = 0.05;
+
+// The warning for a mean temperature `mean_t` over `samples` thermo rows of `dof` degrees of freedom,
+// or nothing when it is within kTemperatureTolerance (plus three times its expected noise) of kT.
+std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
+                                               std::uint64_t samples);
+
 struct ObserverSettings {
   std::filesystem::path out_dir;   // empty: no files (thermo, profiles, trajectories are not kept)
   bool progress = false;           // progress bar or log lines on the root
@@ -48,6 +59,9 @@ class Observers final : public Stage {
   void save(ByteWriter& w) const;
   void load(ByteReader& r, const std::string& context);
 
+  // Warnings found by finish() (on the root), each also a "warning: " line of the summary.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
  private:
   bool thermo_due(std::uint64_t step) const { return !opt_.out_dir.empty() && step % spec_.thermo_every == 0; }
   std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
@@ -67,6 +81,10 @@ class Observers final : public Stage {
   std::vector<std::int64_t> profile_bins_;  // one profile sample: fixed-point flow sums, then counts
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
+  std::vector<std::string> warnings_;
+  // Thermo rows after the midpoint of this run (not of the runs before a restart), for the warning.
+  std::uint64_t late_from_ = 0, late_samples_ = 0;
+  double late_temperature_sum_ = 0;
 };
 
 }  // namespace mesodpd

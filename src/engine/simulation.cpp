@@ -246,6 +246,11 @@ void Simulation::report_lost_particle() const {
                                 step_, count, comm.size(), n_total_, culprit));
 }
 
+const std::vector<std::string>& Simulation::warnings() const {
+  static const std::vector<std::string> none;
+  return observers_ ? observers_->warnings() : none;
+}
+
 ThermoState Simulation::thermo() {
   if (!sums_valid_) {
     // Pair sums of the current state. The forces the next step integrates with were evaluated at the

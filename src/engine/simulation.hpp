@@ -56,6 +56,9 @@ class Simulation {
   // Advances to the final step (run.steps or the override), measuring and writing as configured,
   // then writes the final checkpoint and summaries. Returns a short human-readable summary.
   std::string run();
+  // Warnings about the finished run (on the root rank; also in run()'s summary): a mean temperature
+  // away from kT. The command line prints them to stderr.
+  const std::vector<std::string>& warnings() const;
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),

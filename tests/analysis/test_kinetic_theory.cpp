@@ -67,5 +67,52 @@ TEST(KineticTheory, DissipativeViscosityIsBetaIntegral) {
   }
 }
 
+// Two species A, B with every pair at the [pair] values of seed 000 Sect. 2.
+SimulationSpec two_species() {
+  SimulationSpec spec;
+  spec.kT = 1.0;
+  spec.species.resize(2);
+  spec.species[0].name = "A";
+  spec.species[1].name = "B";
+  spec.pairs.resize(3);  // (0,0), (0,1), (1,1)
+  for (PairSpec& p : spec.pairs) {
+    p.gamma = 4.5;
+    p.rd = 1.0;
+    p.s = 2.0;
+  }
+  return spec;
+}
+
+TEST(KineticTheory, MixtureThatDiffersOnlyInAGetsTheOneFluidValue) {
+  SimulationSpec spec = two_species();
+  spec.pairs[1].a = 40.0;  // A-B repulsion: conservative only, which kinetic theory does not see
+  const KineticViscosity k = kinetic_viscosity_of(spec, 3.0);
+  ASSERT_TRUE(k.applies) << k.why_not;
+  EXPECT_EQ(k.eta, kinetic_viscosity(3.0, 4.5, 1.0, 1.0, 2.0));
+  EXPECT_EQ(k.gamma, 4.5);
+  EXPECT_EQ(k.s, 2.0);
+}
+
+TEST(KineticTheory, MixturePairsWithOtherGammaRdOrSGetNoValue) {
+  // The (0,0) pair alone used to stand for the whole fluid; any pair may differ, also the last.
+  for (int pair = 0; pair < 3; ++pair)
+    for (int key = 0; key < 3; ++key) {
+      SimulationSpec spec = two_species();
+      PairSpec& p = spec.pairs[static_cast<std::size_t>(pair)];
+      (key == 0 ? p.gamma : key == 1 ? p.rd : p.s) *= 1.5;
+      const KineticViscosity k = kinetic_viscosity_of(spec, 3.0);
+      EXPECT_FALSE(k.applies) << "pair " << pair << " key " << key;
+      EXPECT_NE(k.why_not.find("gamma, r_d or s"), std::string::npos) << k.why_not;
+    }
+}
+
+TEST(KineticTheory, MassOtherThanOneGetsNoValue) {
+  SimulationSpec spec = two_species();
+  spec.species[1].mass = 2.0;
+  const KineticViscosity k = kinetic_viscosity_of(spec, 3.0);
+  EXPECT_FALSE(k.applies);
+  EXPECT_NE(k.why_not.find("mass"), std::string::npos) << k.why_not;
+}
+
 }  // namespace
 }  // namespace mesodpd

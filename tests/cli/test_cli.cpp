@@ -1,6 +1,8 @@
 // End-to-end tests of the mesodpd program: exit codes and error lines for bad input, blow-up
 // handling, trajectory and thermo output, LAMMPS data import, restarts and thread independence.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/kinetic_theory.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -653,7 +656,62 @@ TEST(Cli, PoiseuilleWritesProfileViscosityAndPlot) {
   const std::string json = slurp(dir / "out" / "viscosity.json");
   EXPECT_NE(json.find("\"eta\":"), std::string::npos) << json;
   EXPECT_NE(json.find("\"samples\": 20"), std::string::npos) << json;
+  const auto parsed = nlohmann::json::parse(json);  // throws on invalid JSON
+  EXPECT_TRUE(parsed.at("eta").is_number()) << json;
+  EXPECT_EQ(parsed.at("samples").get<int>(), 20);
+  EXPECT_EQ(parsed.at("force").get<double>(), 0.5);
   EXPECT_NE(slurp(dir / "out" / "velocity_profile.svg").find("<svg"), std::string::npos);
+}
+
+// Two species at density 1.5 each with reverse Poiseuille flow; `ab` sets the A-B pair.
+std::string poiseuille_mixture(const std::string& ab) {
+  return "[system]\nbox = [5.0, 5.0, 5.0]\nseed = 7\n\n[[species]]\nname = \"A\"\ndensity = 1.5\n\n"
+         "[[species]]\nname = \"B\"\ndensity = 1.5\n\n[[pair.override]]\nspecies = [\"A\", \"B\"]\n" +
+         ab + "\n\n[run]\nsteps = 20\n\n[output]\nprogress = false\nthermo_every = 5\n\n"
+              "[poiseuille]\nforce = 0.5\nbins = 4\nstart = 0\nevery = 1\nblocks = 2\n";
+}
+
+TEST(Cli, PoiseuilleMixtureWithOtherGammaHasNoKineticTheoryValue) {
+  const fs::path dir = work_dir();
+  write_text(dir / "run.toml", poiseuille_mixture("gamma = 9.0"));
+  const CliResult r = mesodpd(dir, "run run.toml --out out");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("no kinetic-theory value for species pairs with different gamma"), std::string::npos) << r.out;
+  const auto json = nlohmann::json::parse(slurp(dir / "out" / "viscosity.json"));
+  EXPECT_TRUE(json.at("eta").is_number());
+  EXPECT_TRUE(json.at("eta_kinetic_theory").is_null());
+  EXPECT_TRUE(json.at("gamma").is_null());
+  // Only `a` differing: kinetic theory does not see the conservative force, so the one-fluid value applies.
+  write_text(dir / "run.toml", poiseuille_mixture("a = 40.0"));
+  const CliResult q = mesodpd(dir, "run run.toml --out out2");
+  ASSERT_EQ(q.code, 0) << q.err;
+  EXPECT_NE(q.out.find("kinetic theory, seed 000 Eq. 16 / Table 1: "), std::string::npos) << q.out;
+  const auto json2 = nlohmann::json::parse(slurp(dir / "out2" / "viscosity.json"));
+  const double rho = json2.at("density").get<double>();
+  EXPECT_NEAR(rho, 3.0, 0.01);
+  EXPECT_NEAR(json2.at("eta_kinetic_theory").get<double>(), mesodpd::kinetic_viscosity(rho, 4.5, 1.0, 1.0, 2.0), 1e-7);
+}
+
+TEST(Cli, OverheatedRunWarnsAndSaysWhatToChange) {
+  const fs::path dir = work_dir();
+  // 300 steps: the heat of the random initial placement is gone in the second half, which is judged.
+  // dt = 0.1 is 2.5 times the standard step: the Groot-Warren scheme then runs about 30% hot.
+  write_text(dir / "hot.toml", small_config("[integrator]\ndt = 0.1\n", "steps = 300"));
+  const CliResult hot = mesodpd(dir, "run hot.toml --out hot");
+  EXPECT_EQ(hot.code, 0) << hot.err;  // a warning, not an error: the run finished
+  EXPECT_NE(hot.err.find("warning: over the second half of the run the mean temperature"), std::string::npos)
+      << hot.err;
+  EXPECT_NE(hot.err.find("above the target kT = 1"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("reduce integrator.dt (now 0.1)"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.err.find("integrator.lambda"), std::string::npos) << hot.err;
+  EXPECT_NE(hot.out.find("warning: over the second half"), std::string::npos) << hot.out;  // also in the summary
+  // The standard dt on the same system stays within the tolerance: no warning.
+  write_text(dir / "ok.toml", small_config("", "steps = 300"));
+  const CliResult ok = mesodpd(dir, "run ok.toml --out ok");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;
+  EXPECT_EQ(ok.out.find("warning"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("mean temperature"), std::string::npos) << ok.out;
 }
 
 TEST(Cli, RdfAndMsdAreWritten) {
