@@ -29,7 +29,7 @@ struct SpeciesSpec {
   double mass = 1.0;                           // [[species]] mass (> 0)
   std::optional<double> a;                     // [[species]] a, used by mixing = "geometric"
   std::array<double, 3> body_force{0, 0, 0};   // [[species]] body_force: constant external force
-  std::optional<double> density;               // [[species]] density: validate() sets count from it
+  std::optional<double> density;               // [[species]] density: when set, validate() sets count
   std::uint64_t count = 0;                     // [[species]] count, or round(density x box volume)
   Placement placement = Placement::Random;     // [[species]] placement
 };

@@ -152,12 +152,9 @@ void validate_species(SimulationSpec& spec) {
     } else if (sp.density) {
       const double n = std::round(*sp.density * volume);
       if (n > 1.0e15) fail(species_key(k, "density"), show(*sp.density), fmt::format("gives {:.3g} particles in the box; too many", n));
-      const auto derived = static_cast<std::uint64_t>(n);
-      // A count equal to the derived one is what an earlier validate() left, not a second request.
-      if (sp.count != 0 && sp.count != derived)
-        fail(species_key(k, "count"), fmt::format("{}", sp.count),
-             fmt::format("give only one of {} and {}", species_key(k, "density"), species_key(k, "count")));
-      sp.count = derived;
+      // The density decides: a count left by an earlier validate() follows a changed box. (A file that
+      // sets both keys is refused by the reader, which sees which keys are written.)
+      sp.count = static_cast<std::uint64_t>(n);
     }
   }
 }

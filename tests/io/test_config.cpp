@@ -499,6 +499,20 @@ TEST(Config, RejectsBoxSmallerThanTwiceTheCutoff) {
                {"system.box", ">= 12"});
 }
 
+// Errors found by validate() carry the position of the key they name, also inside arrays of tables
+// and arrays; a value the file leaves at its default is marked so, at its table's position.
+TEST(Config, ValidationErrorsPointAtTheirKey) {
+  expect_error(minimal_plus("[[pair.override]]\nspecies = [\"A\", \"A\"]\na = 30\n"
+                            "[[pair.override]]\nspecies = [\"A\", \"A\"]\n  rd = 11\n"),
+               {"test.toml:12:11: pair.override[1].species", "already set by pair.override[0]"});
+  expect_error(minimal_plus("[[pair.override]]\nspecies = [\"A\", \"A\"]\n  rd = 11\n"),
+               {"test.toml:10:8: pair.override[0].rd = 11: must be in (0, 10]"});
+  expect_error("[system]\nbox = [10, 10,   -4]\n[[species]]\nname = \"A\"\ncount = 1\n",
+               {"test.toml:2:18: system.box[2] = -4: must be > 0"});
+  expect_error("[system]\nbox = [5, 10, 10]\n[[species]]\nname = \"A\"\ncount = 1\n\n[analysis.rdf]\nbins = 10\n",
+               {"test.toml:7:1: analysis.rdf.rmax = 3 (default): must be < half the smallest box length (2.5)"});
+}
+
 TEST(Config, RejectsRdfRangeBeyondHalfTheBox) {
   expect_error(minimal_plus("[analysis.rdf]\nrmax = 5\n"),
                {"analysis.rdf.rmax = 5", "half the smallest box"});
