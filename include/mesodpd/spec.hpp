@@ -100,7 +100,8 @@ struct DumpSpec {
 
 struct SimulationSpec {
   std::string source;                           // file the spec came from (for messages)
-  std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic periodic lengths
+  std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic box lengths
+  std::array<bool, 3> periodic{true, true, true};  // [system] periodic: per axis periodic, or bounded (false)
   double kT = 1.0;                              // [system] kT
   std::uint64_t seed = 1;                       // [system] seed
   std::vector<SpeciesSpec> species;             // [[species]]

@@ -188,6 +188,7 @@ void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const Pa
   f.time = static_cast<double>(step) * s.dt;
   f.box_lo = {0, 0, 0};
   f.box_len = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+  f.periodic = ctx.box.periodic;
   f.n = p.n_local;
   f.id = p.id.data();
   f.species = p.species.data();
@@ -265,7 +266,8 @@ void Observers::observe(const StepContext& ctx) {
   if (!comm.root()) return;
   const ParticleData& p = snapshot_;
   const std::size_t n = p.n_local;
-  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z});
+  if (rdf_due) rdf_->sample(p.x.data(), p.y.data(), p.z.data(), n, {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z},
+                            ctx.box.periodic);
   if (msd_due) {
     scratch_a_.resize(n);
     scratch_b_.resize(n);

@@ -1,4 +1,4 @@
-// Radial distribution function g(r) of a periodic orthorhombic box, and the virial EOS from it.
+// Radial distribution function g(r) of an orthorhombic box (periodic or bounded per axis), and the virial EOS from it.
 #include "analysis/rdf.hpp"
 
 #include "physics/dpd_pair.hpp"
@@ -15,8 +15,8 @@ namespace mesodpd {
 
 namespace {
 
-// Distinct neighbour-cell shifts {-1, 0, +1} modulo nc. With nc = 1 or 2 the shifts alias, and
-// visiting an aliased cell twice would double-count its pairs.
+// Distinct neighbour-cell shifts {-1, 0, +1} modulo nc, added as nc - 1, 0, 1 (mod nc). With nc = 1
+// or 2 the shifts alias, and visiting an aliased cell twice would double-count its pairs.
 std::vector<std::size_t> unique_shifts(std::size_t nc) {
   std::vector<std::size_t> s;
   for (std::size_t k : {nc - 1, std::size_t{0}, std::size_t{1}}) {
@@ -24,6 +24,13 @@ std::vector<std::size_t> unique_shifts(std::size_t nc) {
     if (std::find(s.begin(), s.end(), m) == s.end()) s.push_back(m);
   }
   return s;
+}
+
+// True when cell (c + shift) mod nc is a neighbour of c: always on a periodic axis; on a bounded one
+// only when it lies within one cell of c without crossing a face.
+bool reaches(std::size_t c, std::size_t shift, std::size_t nc, bool periodic) {
+  const std::size_t to = (c + shift) % nc;
+  return periodic || (to > c ? to - c : c - to) <= 1;
 }
 
 // Cell index of coordinate u along an axis of length len split into nc cells. Wrapping here (not
@@ -43,7 +50,7 @@ RadialDistribution::RadialDistribution(std::size_t bins, double rmax)
 }
 
 void RadialDistribution::sample(const double* x, const double* y, const double* z, std::size_t n,
-                                std::array<double, 3> box_len) {
+                                std::array<double, 3> box_len, std::array<bool, 3> periodic) {
   const double lmin = std::min({box_len[0], box_len[1], box_len[2]});
   if (!(rmax_ < 0.5 * lmin)) {
     throw std::invalid_argument(
@@ -86,8 +93,11 @@ void RadialDistribution::sample(const double* x, const double* y, const double* 
       for (std::size_t cx = 0; cx < nc[0]; ++cx) {
         const std::size_t c = (cz * nc[1] + cy) * nc[0] + cx;
         for (std::size_t sz : shifts[2]) {
+          if (!reaches(cz, sz, nc[2], periodic[2])) continue;
           for (std::size_t sy : shifts[1]) {
+            if (!reaches(cy, sy, nc[1], periodic[1])) continue;
             for (std::size_t sx : shifts[0]) {
+              if (!reaches(cx, sx, nc[0], periodic[0])) continue;
               const std::size_t nb =
                   (((cz + sz) % nc[2]) * nc[1] + (cy + sy) % nc[1]) * nc[0] + (cx + sx) % nc[0];
               // Ordered pairs (i in c, j in nb); the symmetric shift set visits (j, i) from nb.
@@ -99,9 +109,9 @@ void RadialDistribution::sample(const double* x, const double* y, const double* 
                   double dx = x[j] - x[i];
                   double dy = y[j] - y[i];
                   double dz = z[j] - z[i];
-                  dx -= box_len[0] * std::nearbyint(dx / box_len[0]);
-                  dy -= box_len[1] * std::nearbyint(dy / box_len[1]);
-                  dz -= box_len[2] * std::nearbyint(dz / box_len[2]);
+                  if (periodic[0]) dx -= box_len[0] * std::nearbyint(dx / box_len[0]);
+                  if (periodic[1]) dy -= box_len[1] * std::nearbyint(dy / box_len[1]);
+                  if (periodic[2]) dz -= box_len[2] * std::nearbyint(dz / box_len[2]);
                   const double r2 = dx * dx + dy * dy + dz * dz;
                   if (r2 >= rmax2) continue;
                   auto bin = static_cast<std::size_t>(std::sqrt(r2) / dr_);

@@ -16,12 +16,15 @@ class RadialDistribution {
   // bins > 0 equal-width bins over [0, rmax), rmax > 0.
   RadialDistribution(std::size_t bins, double rmax);
 
-  // Adds one snapshot: positions (x[i], y[i], z[i]) of n particles in a periodic box of edge
-  // lengths box_len, nominally inside [0, L) (others are wrapped). O(n) via cell binning.
+  // Adds one snapshot: positions (x[i], y[i], z[i]) of n particles in a box of edge lengths box_len,
+  // nominally inside [0, L) (others are wrapped on periodic axes). O(n) via cell binning. Pairs are
+  // taken at their minimum image along periodic axes and straight along bounded ones (periodic[d]
+  // false); the ideal-gas normalisation of g() assumes a periodic box, so near bounded faces g(r)
+  // reads low by the fraction of each shell outside the box (about r / 2L per bounded axis).
   // Throws std::invalid_argument unless rmax < min(box_len) / 2, which keeps the minimum image
   // the only image within rmax.
   void sample(const double* x, const double* y, const double* z, std::size_t n,
-              std::array<double, 3> box_len);
+              std::array<double, 3> box_len, std::array<bool, 3> periodic = {true, true, true});
 
   std::vector<double> r() const;  // bin centres
   // Pair counts normalised by the ideal-gas count N(N-1)/V * shell volume, summed over samples.

@@ -101,6 +101,12 @@ double largest_cutoff(const SimulationSpec& spec) {
 
 void validate_system(SimulationSpec& spec) {
   check("system.box", spec.box, kPositive);
+  const auto& per = spec.periodic;
+  // The engine handles bounded axes (docs/architecture.md, "Boundaries"), but until walls exist nothing
+  // would keep the particles in.
+  if (!(per[0] && per[1] && per[2]))
+    fail("system.periodic", fmt::format("[{}, {}, {}]", per[0], per[1], per[2]),
+         "a bounded axis (false) needs walls to close it, which are not implemented yet; use [true, true, true]");
   check("system.kT", spec.kT, kPositive);
 }
 
@@ -325,8 +331,9 @@ void validate_engine_limits(SimulationSpec& spec) {
            fmt::format("every length must be >= 2 x the largest cutoff (max rc, rd = {}), i.e. >= {}", cutoff, 2.0 * cutoff));
 
   // The domain decomposition's limits that a parallel.grid implies whatever the rank count: an axis
-  // split over p > 1 ranks needs p cells and at least 3, and any split (more than one rank) needs at
-  // least 3 and at most 32,000 cells along every axis (ghost records carry 16-bit cell coordinates).
+  // split over p > 1 ranks needs p cells and, if periodic, at least 3, and any split (more than one
+  // rank) needs at most 32,000 cells along every axis (ghost records carry 16-bit cell coordinates) and
+  // at least 3 along every periodic one (a bounded axis does not wrap, so fewer do not alias).
   const std::array<int, 3>& grid = spec.parallel_grid;
   const double range = cutoff + (spec.neighbor == NeighborMethod::Verlet ? spec.skin : 0.0);
   std::array<double, 3> cells{};
@@ -351,7 +358,7 @@ void validate_engine_limits(SimulationSpec& spec) {
     fail("parallel.grid", fmt::format("[{}, {}, {}]", grid[0], grid[1], grid[2]),
          fmt::format("needs at least {} ranks, more than MPI can start", fixed));
   for (std::size_t d = 0; d < 3; ++d)
-    if (grid[d] > 1 && (grid[d] > cells[d] || cells[d] < 3))
+    if (grid[d] > 1 && (grid[d] > cells[d] || (spec.periodic[d] && cells[d] < 3)))
       fail(fmt::format("parallel.grid[{}]", d), fmt::format("{}", grid[d]),
            fmt::format("{} ranks along {} would make domains {:.4g} wide, thinner than the ghost width {:.4g} "
                        "(largest cutoff + skin) or fewer than 3 cells ({} along {}); use fewer ranks along {} or a larger box",
@@ -359,7 +366,7 @@ void validate_engine_limits(SimulationSpec& spec) {
   if (fixed > 1)
     for (std::size_t d = 0; d < 3; ++d) {
       const std::string key = fmt::format("system.box[{}]", d);
-      if (cells[d] < 3)
+      if (spec.periodic[d] && cells[d] < 3)
         fail(key, show(spec.box[d]),
              fmt::format("parallel.grid asks for {} ranks or more, and under MPI every box length must hold at least 3 "
                          "cells of width {:.4g} (largest cutoff + skin)", fixed, range));

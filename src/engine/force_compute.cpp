@@ -95,8 +95,10 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
   const int nthreads = omp_get_max_threads();
   buffers_.resize(static_cast<std::size_t>(nthreads));
   while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());
-  const double lx = box.len.x, ly = box.len.y, lz = box.len.z;
-  const double hlx = 0.5 * lx, hly = 0.5 * ly, hlz = 0.5 * lz;  // half lengths
+  const double lx = box.len.x, ly = box.len.y, lz = box.len.z;  // shifts of wrapped cell runs
+  // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
+  const double ilx = box.image_len(0), ily = box.image_len(1), ilz = box.image_len(2);
+  const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
   const int ns = table_.n_species;
   const DpdPairParamsT<PairReal>* params = params_real_.data();
   const PairReal inv_sqrt_dt_r = static_cast<PairReal>(1.0 / std::sqrt(dt));
@@ -135,9 +137,9 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
       for (std::size_t k = 0; k < m; ++k) {
         const std::uint32_t j = b.j[k];
-        const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], lx, hlx));
-        const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ly, hly));
-        const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], lz, hlz));
+        const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], ilx, hlx));
+        const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ily, hly));
+        const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], ilz, hlz));
         const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
         const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
         b.dx[k] = dx;

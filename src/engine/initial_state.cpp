@@ -38,6 +38,7 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
       throw ConfigError(fmt::format("species[{}].mass: {} differs from the mass {} of atom type {} in {}", t,
                                     spec.species[t].mass, data.masses[t], t + 1, spec.data_file));
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
+  box.periodic = spec.periodic;
   const std::size_t n = data.atoms.size();
   p.resize(n);
   p.n_local = n;
@@ -52,9 +53,16 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
     p.ix[i] = a.ix;
     p.iy[i] = a.iy;
     p.iz[i] = a.iz;
-    wrap_coordinate(p.x[i], p.ix[i], box.len.x);
-    wrap_coordinate(p.y[i], p.iy[i], box.len.y);
-    wrap_coordinate(p.z[i], p.iz[i], box.len.z);
+    double* r[3] = {&p.x[i], &p.y[i], &p.z[i]};
+    std::int32_t* image[3] = {&p.ix[i], &p.iy[i], &p.iz[i]};
+    for (int d = 0; d < 3; ++d) {
+      if (box.periodic[static_cast<std::size_t>(d)]) {
+        wrap_coordinate(*r[d], *image[d], box.length(d));
+      } else if (!(*r[d] >= 0.0 && *r[d] < box.length(d))) {
+        throw ConfigError(fmt::format("{}: atom {} lies outside the box along {}, which is bounded (system.periodic)",
+                                      spec.data_file, a.id, "xyz"[d]));
+      }
+    }
     if (data.has_velocities) {
       p.vx[i] = data.velocities[i][0];
       p.vy[i] = data.velocities[i][1];
@@ -139,6 +147,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
     return;
   }
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
+  box.periodic = spec.periodic;
   std::uint64_t total = 0, lattice_total = 0;
   for (const auto& s : spec.species) {
     total += s.count;

@@ -14,6 +14,7 @@
 
 #include "analysis/observers.hpp"
 #include "boundary/external_fields.hpp"
+#include "engine/domain_exchange.hpp"
 #include "engine/initial_state.hpp"
 #include "io/byte_buffer.hpp"
 #include "io/checkpoint_file.hpp"
@@ -64,6 +65,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   final_step_ = options_.steps ? *options_.steps : spec_.steps;
   const bool restarted = !options_.restart.empty();
   const Comm comm = Comm::world();
+  box_.periodic = spec_.periodic;
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
   auto check_box = [&] {
     const double two_rc = 2 * forces_.table().max_cutoff;
@@ -72,7 +74,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   };
   auto decompose = [&] {
     halo_ = Halo(comm, Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
-                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range));
+                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range,
+                                           box_.periodic));
   };
   if (!restarted && spec_.data_file.empty() && comm.distributed()) {
     // A generated system: each rank creates only the particles of its own cells.
@@ -99,7 +102,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
 #endif
   }
   if (!restarted) {
-    nlist_.build(p_, box_, &halo_);
+    rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
   observers_ = &stages_.add(StagePoint::EndOfStep,
@@ -150,23 +153,19 @@ void Simulation::compute_forces(bool with_sums) {
 void Simulation::step() {
   // 1. First part of the integrator: positions and the velocity the forces will see.
   std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
-  // 2. Periodic wrap of the local particles.
-  const std::size_t n = p_.n_local;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    wrap_coordinate(p_.x[i], p_.ix[i], box_.len.x);
-    wrap_coordinate(p_.y[i], p_.iy[i], box_.len.y);
-    wrap_coordinate(p_.z[i], p_.iz[i], box_.len.z);
-  }
+  // 2. Box boundaries: periodic wrap of the local particles; a particle outside a bounded axis is lost.
+  if (const auto lost = apply_box_boundaries(p_, box_, halo_.comm()))
+    throw BlowUpError(step_ + 1, lost->id,
+                      fmt::format("particle id {} left the box at step {}: position ({}, {}, {}) is outside [0, {}) "
+                                  "along {}, which is bounded (system.periodic) with nothing to keep it in",
+                                  lost->id, step_ + 1, lost->x, lost->y, lost->z, box_.length(lost->axis),
+                                  "xyz"[lost->axis]));
   ++step_;
   // Constraints on the new positions (reflections at walls).
   run_stages(StagePoint::AfterFirstHalf);
   // 3. Neighbour list, rebuilt only when some particle has moved half the skin. Under MPI a rebuild
   //    migrates particles to their owners and rebuilds the ghosts; otherwise the ghosts are refreshed.
-  if (nlist_.needs_rebuild(p_, box_, &halo_))
-    nlist_.build(p_, box_, &halo_);
-  else
-    halo_.update_ghosts(p_);
+  update_neighbors(nlist_, p_, box_, halo_);
   run_stages(StagePoint::AfterNeighbors);
   // 4. Forces at the new positions: pair forces (ghost forces back to their owners), then the Forces
   //    stages (external fields); pair sums only where a stage reads them at this step (thermo output).

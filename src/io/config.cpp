@@ -214,6 +214,23 @@ class Section {
     return out;
   }
 
+  // Exactly three booleans (one per axis).
+  std::optional<std::array<bool, 3>> bool3(std::string_view key) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    const toml::array* arr = n->as_array();
+    if (!arr) wrong_type(key, *n, "an array of 3 booleans");
+    if (arr->size() != 3) bad(key, *n, fmt::format("expected 3 booleans, got {}", arr->size()));
+    std::array<bool, 3> out{};
+    for (std::size_t d = 0; d < 3; ++d) {
+      const toml::node& e = *arr->get(d);
+      const auto* b = e.as_boolean();
+      if (!b) wrong_type(fmt::format("{}[{}]", key, d), e, "a boolean (true or false)");
+      out[d] = b->get();
+    }
+    return out;
+  }
+
   std::optional<std::vector<std::string>> strings(std::string_view key) const {
     const toml::node* n = get(key);
     if (!n) return std::nullopt;
@@ -322,10 +339,11 @@ PairParams read_pair_params(const Section& s) {
 }
 
 void read_system(const Section& top, SimulationSpec& spec) {
-  const Section sys = top.table_or_empty("system", {"box", "kT", "seed"});
+  const Section sys = top.table_or_empty("system", {"box", "periodic", "kT", "seed"});
   const auto box = sys.vec3("box");
   if (!box) sys.missing("box", " (three positive box lengths)");
   spec.box = *box;
+  if (const auto periodic = sys.bool3("periodic")) spec.periodic = *periodic;
   read_real(sys, "kT", spec.kT);
   read_uint(sys, "seed", spec.seed);
 }

@@ -17,6 +17,7 @@ struct FrameView {
   std::uint64_t step = 0;
   double time = 0;
   std::array<double, 3> box_lo{}, box_len{};
+  std::array<bool, 3> periodic{true, true, true};  // per axis; false: bounded (LAMMPS "ff")
   std::size_t n = 0;
   const std::uint32_t* id = nullptr;                      // global ids; required whenever n > 0
   const std::int32_t* species = nullptr;                  // species index 0..

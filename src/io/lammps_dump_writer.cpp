@@ -28,8 +28,9 @@ void LammpsDumpWriter::write_frame(const FrameView& f) {
   // is never left half-formatted in the stream if formatting throws.
   fmt::memory_buffer buf;
   auto out = std::back_inserter(buf);
-  fmt::format_to(out, "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS pp pp pp\n", f.step,
-                 f.n);
+  auto flag = [&](int d) { return f.periodic[static_cast<std::size_t>(d)] ? "pp" : "ff"; };
+  fmt::format_to(out, "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {} {} {}\n", f.step, f.n,
+                 flag(0), flag(1), flag(2));
   for (int d = 0; d < 3; ++d) fmt::format_to(out, "{} {}\n", f.box_lo[d], f.box_lo[d] + f.box_len[d]);
 
   fmt::format_to(out, "ITEM: ATOMS");

@@ -1,4 +1,4 @@
-// Cell grid geometry, the numbering of owned and ghost cells, and periodic half stencils.
+// Cell grid geometry, the numbering of owned and ghost cells, and half stencils (periodic or bounded).
 #include "neighbor/cell_grid.hpp"
 
 #include <algorithm>
@@ -19,6 +19,7 @@ CellGrid::CellGrid(const Box& box, double min_size, const CellDomain& domain) {
   bool any_ghost = false;
   for (std::size_t d = 0; d < 3; ++d) {
     inv_size_[d] = n_[d] / len[d];
+    periodic_[d] = box.periodic[d];
     const bool split = domain.count[d] > 0 && domain.count[d] < n_[d];
     lo_[d] = split ? domain.lo[d] : 0;
     own_[d] = split ? domain.count[d] : n_[d];
@@ -78,10 +79,13 @@ int CellGrid::half_runs_general(int c, CellRun* out) const {
   out[count++] = CellRun{c, c, 0, 0, 0};
   // Neighbour coordinate along axis d and its wrap: -1 when the step leaves the global grid below (the
   // neighbour sits at the top, one box length too high), +1 when it leaves above. Axes with ghost
-  // layers do not wrap their local coordinate; the ghost cell holds the periodic image.
+  // layers do not wrap their local coordinate; the ghost cell holds the periodic image. On a bounded
+  // axis there is nothing beyond the faces: `absent` is set instead.
+  bool absent = false;
   auto step = [&](int d, int delta, int& local) -> std::int8_t {
     const int g = lo_[d] + q[d] + delta;
     const std::int8_t wrap = static_cast<std::int8_t>(g < 0 ? -1 : (g >= n_[d] ? 1 : 0));
+    if (wrap != 0 && !periodic_[d]) absent = true;
     local = ghost_[d] ? q[d] + delta : (q[d] + delta + own_[d]) % own_[d];
     return wrap;
   };
@@ -93,7 +97,9 @@ int CellGrid::half_runs_general(int c, CellRun* out) const {
         const bool forward = dz > 0 || (dy > 0 || (dy == 0 && dx > 0));
         if (!forward) continue;
         int nx, ny, nz;
+        absent = false;
         const std::int8_t wx = step(0, dx, nx), wy = step(1, dy, ny), wz = step(2, dz, nz);
+        if (absent) continue;
         const int cell = index_of(nx, ny, nz);
         CellRun& last = out[count - 1];
         if (cell == last.last + 1 && wx == last.wx && wy == last.wy && wz == last.wz)

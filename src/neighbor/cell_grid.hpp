@@ -1,10 +1,12 @@
-// Regular periodic grid of cells at least `min_size` wide, with neighbour-cell stencils computed on the
-// fly (a stored stencil per cell would cost more memory than the particles at rho = 3).
+// Regular grid of cells at least `min_size` wide over the box, with neighbour-cell stencils computed on
+// the fly (a stored stencil per cell would cost more memory than the particles at rho = 3). Along a
+// periodic axis the stencil wraps around; along a bounded axis (Box::periodic) the cells beyond either
+// face are absent and the stencil leaves them out.
 //
 // Under domain decomposition a grid covers one rank's block of whole cells plus, along each split axis,
 // one layer of ghost cells on either side. Owned cells are numbered first, (z, y, x) lexicographically,
 // ghost cells after them, so local particles sorted by cell come before ghosts. Along an axis that is not
-// split the grid wraps periodically, exactly as a single-domain grid does.
+// split the grid wraps periodically (if the axis is periodic), exactly as a single-domain grid does.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -16,7 +18,8 @@ namespace mesodpd {
 
 // Consecutive cells [first, last] (in storage order) that share one periodic wrap: their particles
 // form one contiguous range once particles are sorted by cell. The nearest images of those particles
-// lie at x_j + wrap * L, so the displacement is d = (x_i - x_j) - wrap * L.
+// lie at x_j + wrap * L, so the displacement is d = (x_i - x_j) - wrap * L. The wrap is always 0 along
+// a bounded axis.
 struct CellRun {
   int first, last;
   std::int8_t wx, wy, wz;
@@ -27,6 +30,8 @@ struct CellDomain {
   std::array<int, 3> lo{0, 0, 0};
   std::array<int, 3> count{0, 0, 0};  // 0: the whole axis
   std::array<bool, 3> ghost{false, false, false};
+
+  bool operator==(const CellDomain&) const = default;
 };
 
 class CellGrid {
@@ -68,14 +73,21 @@ class CellGrid {
   // Index of the cell at local coordinates (lx, ly, lz); ghost layers are at -1 and owned_dims()[d].
   int index_of(int lx, int ly, int lz) const;
 
-  // Calls f(cell) once for every distinct cell within one cell of `c` (c included), for periodic grids
-  // of any size: a dimension with fewer than three cells must not visit a cell twice. Single domain only.
+  // Calls f(cell) once for every distinct cell within one cell of `c` (c included), for grids of any
+  // size: a periodic dimension with fewer than three cells must not visit a cell twice, and a bounded
+  // one has no cells beyond its faces. Single domain only.
   template <class F>
   void for_each_neighbor_cell(int c, F&& f) const;
 
-  // With at least three cells in every direction, visiting the own cell (pairs j > i) plus the 13
-  // "forward" neighbour cells (half of the 26) finds every pair exactly once.
-  bool has_half_stencil() const { return n_[0] >= 3 && n_[1] >= 3 && n_[2] >= 3; }
+  // With at least three cells along every periodic axis (any number along a bounded one, which does
+  // not wrap), visiting the own cell (pairs j > i) plus the 13 "forward" neighbour cells (half of the
+  // 26, less those beyond a bounded face) finds every pair exactly once.
+  bool has_half_stencil() const {
+    for (std::size_t d = 0; d < 3; ++d)
+      if (periodic_[d] && n_[d] < 3) return false;
+    return true;
+  }
+  const std::array<bool, 3>& periodic() const { return periodic_; }
   // Writes the own cell followed by the forward cells of owned cell `c`, merged into runs of
   // storage-adjacent cells with a common wrap, into out[0..return). out[0] starts at c itself.
   int half_runs(int c, CellRun* out) const;
@@ -89,6 +101,7 @@ class CellGrid {
   std::array<int, 3> n_{1, 1, 1};
   std::array<int, 3> lo_{0, 0, 0}, own_{1, 1, 1}, ghost_{0, 0, 0};
   std::array<double, 3> inv_size_{1, 1, 1};
+  std::array<bool, 3> periodic_{true, true, true};
   std::size_t num_cells_ = 1, num_owned_ = 1;
   std::vector<int> ghost_index_;  // extended grid -> cell index, when there are ghost layers
 };
@@ -96,12 +109,14 @@ class CellGrid {
 template <class F>
 void CellGrid::for_each_neighbor_cell(int c, F&& f) const {
   const int cx = c % n_[0], cy = (c / n_[0]) % n_[1], cz = c / (n_[0] * n_[1]);
-  // Offsets per dimension that reach distinct cells: {0} for 1 cell, {0,1} for 2, {-1,0,1} otherwise.
-  auto lo = [](int n) { return n >= 3 ? -1 : 0; };
-  auto hi = [](int n) { return n >= 2 ? 1 : 0; };
-  for (int dz = lo(n_[2]); dz <= hi(n_[2]); ++dz)
-    for (int dy = lo(n_[1]); dy <= hi(n_[1]); ++dy)
-      for (int dx = lo(n_[0]); dx <= hi(n_[0]); ++dx) {
+  // Offsets per dimension that reach distinct cells. Periodic: {0} for 1 cell, {0,1} for 2, {-1,0,1}
+  // otherwise. Bounded: those of {-1,0,1} that stay inside [0, n).
+  const int q[3] = {cx, cy, cz};
+  auto lo = [&](std::size_t d) { return periodic_[d] ? (n_[d] >= 3 ? -1 : 0) : (q[d] > 0 ? -1 : 0); };
+  auto hi = [&](std::size_t d) { return periodic_[d] ? (n_[d] >= 2 ? 1 : 0) : (q[d] < n_[d] - 1 ? 1 : 0); };
+  for (int dz = lo(2); dz <= hi(2); ++dz)
+    for (int dy = lo(1); dy <= hi(1); ++dy)
+      for (int dx = lo(0); dx <= hi(0); ++dx) {
         const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1], nz = (cz + dz + n_[2]) % n_[2];
         f((nz * n_[1] + ny) * n_[0] + nx);
       }

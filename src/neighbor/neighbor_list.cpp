@@ -8,38 +8,47 @@
 
 namespace mesodpd {
 
-bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box, const Halo* halo) const {
+bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
   if (settings_.skin <= 0.0) return true;
   int moved = (builds_ == 0 || x0_.size() != p.n_local) ? 1 : 0;
   if (!moved) {
     const double limit2 = 0.25 * settings_.skin * settings_.skin;
-    const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
+    const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+    const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
     const std::size_t n = p.n_local;
 #pragma omp parallel for reduction(| : moved) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      const double dx = minimum_image(p.x[i] - x0_[i], box.len.x, hlx);
-      const double dy = minimum_image(p.y[i] - y0_[i], box.len.y, hly);
-      const double dz = minimum_image(p.z[i] - z0_[i], box.len.z, hlz);
+      const double dx = minimum_image(p.x[i] - x0_[i], lx, hlx);
+      const double dy = minimum_image(p.y[i] - y0_[i], ly, hly);
+      const double dz = minimum_image(p.z[i] - z0_[i], lz, hlz);
       moved |= (dx * dx + dy * dy + dz * dz > limit2) ? 1 : 0;
     }
   }
-  // Every rank rebuilds together: the ghosts and the migration are collective.
-  if (halo != nullptr && halo->comm().distributed()) return halo->comm().max(static_cast<std::uint64_t>(moved)) != 0;
   return moved != 0;
 }
 
-void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
-  const double range = settings_.cutoff + settings_.skin;
-  const bool decomposed = halo != nullptr && halo->active();
-  if (builds_ == 0 || box.len.x != grid_box_.len.x || box.len.y != grid_box_.len.y ||
-      box.len.z != grid_box_.len.z) {
-    grid_ = decomposed ? CellGrid(box, range, halo->cell_domain()) : CellGrid(box, range);
-    grid_box_ = box;
-  }
-  if (decomposed) {
-    if (!grid_.has_half_stencil()) throw std::logic_error("NeighborList: a decomposed box needs the half stencil");
-    halo->migrate(p, grid_);
-  }
+void NeighborList::build(ParticleData& p, const Box& box) {
+  set_grid(box);
+  sort_locals(p);
+  finish(p, box);
+}
+
+void NeighborList::set_grid(const Box& box, const CellDomain& domain) {
+  const bool same = has_grid_ && box.len.x == grid_box_.len.x && box.len.y == grid_box_.len.y &&
+                    box.len.z == grid_box_.len.z && domain == grid_domain_;
+  if (same) return;
+  grid_ = CellGrid(box, settings_.cutoff + settings_.skin, domain);
+  grid_box_ = box;
+  grid_domain_ = domain;
+  has_grid_ = true;
+  decomposed_ = grid_.owned_dims() != grid_.dims();
+}
+
+void NeighborList::sort_locals(ParticleData& p) {
+  if (!has_grid_) throw std::logic_error("NeighborList::sort_locals before set_grid");
+  if (decomposed_ && !grid_.has_half_stencil())
+    throw std::logic_error("NeighborList: a decomposed box needs the half stencil");
+  const bool decomposed = decomposed_;
   const std::size_t n = p.n_local;
   const std::size_t nc = grid_.num_cells();
   const std::size_t owned = grid_.num_owned_cells();
@@ -89,16 +98,23 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
   }
   if (outside) throw std::logic_error("NeighborList: a local particle lies outside this rank's cells");
   cell_start_[owned] = static_cast<std::uint32_t>(n);
-  cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
   // Forces are not carried: the step computes every force after a build, before reading any
   // (Simulation::step; at start-up the first build is followed by a force computation).
   if (settings_.sort || decomposed)
     p.permute(order_, decomposed ? n + n / 8 : 0, ParticleData::Forces::Discard);  // room for the ghosts
-  if (decomposed) {
-    // Ghost cells follow the owned ones in storage and in cell_start_.
-    halo->build_ghosts(p, grid_, cell_start_, ghost_count_);
-    for (std::size_t c = owned; c < nc; ++c) cell_start_[c + 1] = cell_start_[c] + ghost_count_[c - owned];
-  }
+}
+
+void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::uint32_t> ghost_count) {
+  const bool decomposed = decomposed_;
+  const std::size_t n = p.n_local;
+  const std::size_t nc = grid_.num_cells();
+  const std::size_t owned = grid_.num_owned_cells();
+  if (ghost_count.size() != (decomposed ? nc - owned : 0))
+    throw std::logic_error("NeighborList::finish: ghost counts do not match the ghost cells");
+  // Ghost cells follow the owned ones in storage and in cell_start_.
+  for (std::size_t c = owned; c < nc; ++c) cell_start_[c + 1] = cell_start_[c] + ghost_count[c - owned];
+  if (cell_start_[nc] != p.size()) throw std::logic_error("NeighborList::finish: ghost counts do not add up");
+  cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
   if (cells_only_) {
     // The force loop walks cell_start_ over the sorted storage; no list, order or per-particle cell.
     offsets_.clear();
@@ -119,7 +135,10 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
   }
   // order_[k] is the storage index of the k-th particle in cell order.
 
-  const double hlx = 0.5 * box.len.x, hly = 0.5 * box.len.y, hlz = 0.5 * box.len.z;  // half lengths
+  // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
+  const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+  const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
+  const double range = settings_.cutoff + settings_.skin;
   const double range2 = range * range;
 
   // Grids with three or more cells per direction use the half stencil (own cell with j > i, plus 13
@@ -130,9 +149,9 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
     auto scan = [&](std::uint32_t k0, std::uint32_t k1) {
       for (std::uint32_t k = k0; k < k1; ++k) {
         const std::uint32_t j = order_[k];
-        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
+        const double dx = minimum_image(xi - p.x[j], lx, hlx);
+        const double dy = minimum_image(yi - p.y[j], ly, hly);
+        const double dz = minimum_image(zi - p.z[j], lz, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     };
@@ -151,9 +170,9 @@ void NeighborList::build(ParticleData& p, const Box& box, Halo* halo) {
       for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
         const std::uint32_t j = order_[k];
         if (j <= i) continue;
-        const double dx = minimum_image(xi - p.x[j], box.len.x, hlx);
-        const double dy = minimum_image(yi - p.y[j], box.len.y, hly);
-        const double dz = minimum_image(zi - p.z[j], box.len.z, hlz);
+        const double dx = minimum_image(xi - p.x[j], lx, hlx);
+        const double dy = minimum_image(yi - p.y[j], ly, hly);
+        const double dz = minimum_image(zi - p.z[j], lz, hlz);
         if (dx * dx + dy * dy + dz * dz < range2) emit(j);
       }
     });

@@ -1,12 +1,14 @@
 // Half neighbour list (each unordered pair once) with a Verlet skin, built in O(N) from a cell grid.
+// Knows nothing of ranks: under domain decomposition the caller moves particles between the phases of
+// a build (engine/domain_exchange.hpp), and hands the ghost cell counts over as data.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
 #include "neighbor/cell_grid.hpp"
-#include "parallel/halo.hpp"
 
 namespace mesodpd {
 
@@ -20,15 +22,27 @@ class NeighborList {
  public:
   explicit NeighborList(NeighborSettings s) : settings_(s) {}
 
-  // True when some particle (on any rank of `halo`) moved more than skin/2 since the last build (or
-  // none was built).
-  bool needs_rebuild(const ParticleData& p, const Box& box, const Halo* halo = nullptr) const;
+  // True when some local particle moved more than skin/2 since the last build (or none was built). This
+  // rank's answer only: under MPI the caller combines the answers of all ranks, which rebuild together.
+  bool needs_rebuild(const ParticleData& p, const Box& box) const;
 
-  // Optionally sorts `p` by cell, then lists every unordered pair once whose minimum-image distance
-  // is below cutoff + skin (or, in cell-pair mode, only bins and sorts). With an active `halo`, first
-  // migrates particles to their owners and afterwards appends the ghosts, sorted by ghost cell; rows
-  // are listed for local particles only and their partners may be ghosts.
-  void build(ParticleData& p, const Box& box, Halo* halo = nullptr);
+  // Single domain: optionally sorts `p` by cell, then lists every unordered pair once whose
+  // minimum-image distance is below cutoff + skin (or, in cell-pair mode, only bins and sorts).
+  // Equivalent to set_grid(box), sort_locals(p), finish(p, box).
+  void build(ParticleData& p, const Box& box);
+
+  // The phases of a build, for a caller that moves particles between ranks in between:
+  // 1. set_grid: the cell grid of `box` restricted to this rank's block of cells `domain` (kept while
+  //    box and domain stay the same). Migration to the owning ranks goes here, using grid().
+  // 2. sort_locals: bins the local particles (all must lie in owned cells) and, when sorting or
+  //    decomposed, reorders the storage by cell, dropping any ghosts and leaving room for new ones;
+  //    cell_start() is then valid for the owned cells. Ghost construction goes here.
+  // 3. finish: ghosts [n_local, n_local + n_ghost) must be sorted by ghost cell, ghost_count[k] of
+  //    them in cell num_owned_cells() + k; completes cell_start() and lists the pairs, rows for local
+  //    particles only (partners may be ghosts).
+  void set_grid(const Box& box, const CellDomain& domain = {});
+  void sort_locals(ParticleData& p);
+  void finish(ParticleData& p, const Box& box, std::span<const std::uint32_t> ghost_count = {});
 
   // Cell-pair mode: with no skin the list would be rebuilt every step anyway, so build() only bins and
   // sorts the particles, and the force loop visits cell pairs directly (ForceCompute). Needs sorting and
@@ -49,6 +63,9 @@ class NeighborList {
   NeighborSettings settings_;
   CellGrid grid_;
   Box grid_box_;
+  CellDomain grid_domain_;
+  bool has_grid_ = false;
+  bool decomposed_ = false;  // the grid covers part of the box, with ghost cells
   std::vector<std::uint32_t> cell_start_, cell_index_, order_, ghost_count_;
   std::vector<std::uint32_t> offsets_, neighbors_;
   std::vector<std::vector<std::uint32_t>> thread_rows_;

@@ -98,6 +98,8 @@ std::uint64_t Comm::max(std::uint64_t v) const {
 std::vector<std::byte> Comm::exchange(int dest, int src, int tag, std::span<const std::byte> send) const {
 #ifdef MESODPD_HAVE_MPI
   if (mpi_ && size_ > 1) {
+    if (dest < 0) dest = MPI_PROC_NULL;
+    if (src < 0) src = MPI_PROC_NULL;
     std::uint64_t out_n = send.size(), in_n = 0;
     check(MPI_Sendrecv(&out_n, 1, MPI_UINT64_T, dest, tag, &in_n, 1, MPI_UINT64_T, src, tag, MPI_COMM_WORLD,
                        MPI_STATUS_IGNORE),
@@ -123,8 +125,8 @@ std::vector<std::byte> Comm::exchange(int dest, int src, int tag, std::span<cons
   }
 #endif
   (void)dest;
-  (void)src;
   (void)tag;
+  if (src < 0) return {};
   return std::vector<std::byte>(send.begin(), send.end());
 }
 

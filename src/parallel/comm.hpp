@@ -29,7 +29,8 @@ class Comm {
   std::uint64_t min(std::uint64_t v) const;
   std::uint64_t max(std::uint64_t v) const;
 
-  // Sends `send` to rank `dest` and returns what rank `src` sent with the same tag.
+  // Sends `send` to rank `dest` and returns what rank `src` sent with the same tag. A negative rank
+  // means no partner on that side (the end of a bounded axis): nothing is sent, or nothing received.
   std::vector<std::byte> exchange(int dest, int src, int tag, std::span<const std::byte> send) const;
   // Concatenation of every rank's bytes in rank order, on the root only (empty elsewhere).
   std::vector<std::byte> gather(std::span<const std::byte> send) const;

@@ -18,8 +18,10 @@ int Decomposition::rank_at(std::array<int, 3> c) const {
 }
 
 int Decomposition::neighbor(int d, int dir) const {
+  const auto u = static_cast<std::size_t>(d);
   std::array<int, 3> c = coord;
-  c[static_cast<std::size_t>(d)] += dir == 0 ? -1 : 1;
+  c[u] += dir == 0 ? -1 : 1;
+  if (!periodic[u] && (c[u] < 0 || c[u] >= grid[u])) return kNoRank;
   return rank_at(c);
 }
 
@@ -38,7 +40,7 @@ int Decomposition::owner_of_cell(int d, int g) const {
 }
 
 Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells, std::array<double, 3> len,
-                                  std::array<int, 3> requested, double range) {
+                                  std::array<int, 3> requested, double range, std::array<bool, 3> periodic) {
   const char* axes = "xyz";
   for (std::size_t d = 0; d < 3; ++d)
     if (requested[d] < 0) throw ConfigError(fmt::format("parallel.grid: {} is negative", format_grid(requested)));
@@ -46,8 +48,9 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
   if (all_given && requested[0] * requested[1] * requested[2] != nranks)
     throw ConfigError(fmt::format("parallel.grid: {} needs {} ranks but the run has {} (mpirun -np)",
                                   format_grid(requested), requested[0] * requested[1] * requested[2], nranks));
-  // A dimension split over several ranks needs at least one cell per rank and three cells in all (the
-  // half stencil must not meet the same neighbour cell from both sides).
+  // A dimension split over several ranks needs at least one cell per rank and, if periodic, three cells
+  // in all (the half stencil must not meet the same neighbour cell from both sides; a bounded axis
+  // does not wrap, so there it cannot).
   auto refuse = [&](std::size_t d, int p) {
     return fmt::format(
         "parallel.grid: {} ranks along {} would make domains {:.4g} wide, thinner than the ghost width {:.4g} "
@@ -55,7 +58,8 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
         p, axes[d], len[d] / p, range, cells[d], axes[d], axes[d]);
   };
   for (std::size_t d = 0; d < 3; ++d)
-    if (requested[d] > 1 && (requested[d] > cells[d] || cells[d] < 3)) throw ConfigError(refuse(d, requested[d]));
+    if (requested[d] > 1 && (requested[d] > cells[d] || (periodic[d] && cells[d] < 3)))
+      throw ConfigError(refuse(d, requested[d]));
   const int fixed = std::max(1, requested[0]) * std::max(1, requested[1]) * std::max(1, requested[2]);
   if (nranks % fixed != 0)
     throw ConfigError(fmt::format("parallel.grid: {} fixes {} ranks, which does not divide the {} ranks of the run "
@@ -68,10 +72,10 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
                                       cells[d], axes[d]));
   if (nranks > 1)
     for (std::size_t d = 0; d < 3; ++d)
-      if (cells[d] < 3)
+      if (periodic[d] && cells[d] < 3)
         throw ConfigError(fmt::format(
-            "system.box: under MPI every box length must hold at least 3 cells of width {:.4g} (largest cutoff + "
-            "skin); the box is {:.4g} long along {}",
+            "system.box: under MPI every periodic box length must hold at least 3 cells of width {:.4g} (largest "
+            "cutoff + skin); the box is {:.4g} long along {}",
             range, len[d], axes[d]));
 
   Decomposition best;
@@ -89,12 +93,14 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
         if (g[d] > cells[d]) ok = false;
       }
       if (!ok) continue;
-      // Ghost volume per rank: the domain grown by one ghost width on both sides of each split axis,
-      // minus the domain (an unsplit axis needs no ghosts at all).
+      // Ghost volume of the busiest rank: the domain grown by one ghost width on both sides of each
+      // split axis, minus the domain. An unsplit axis needs no ghosts at all; along a bounded axis the
+      // end ranks have a neighbour on one side only, so with two ranks there each has one layer.
       double grown = 1, own = 1;
       for (std::size_t d = 0; d < 3; ++d) {
+        const int layers = g[d] == 1 ? 0 : (periodic[d] ? 2 : std::min(2, g[d] - 1));
         own *= len[d] / g[d];
-        grown *= len[d] / g[d] + (g[d] > 1 ? 2 * range : 0.0);
+        grown *= len[d] / g[d] + layers * range;
       }
       const double cost = grown - own;
       if (cost < best_cost - 1e-9) {
@@ -115,6 +121,7 @@ Decomposition Decomposition::make(int nranks, int rank, std::array<int, 3> cells
         all_given || requested == std::array<int, 3>{0, 0, 0} ? "" : fmt::format(" with grid {}", format_grid(requested))));
   }
   best.cells = cells;
+  best.periodic = periodic;
   best.coord = {rank % best.grid[0], (rank / best.grid[0]) % best.grid[1], rank / (best.grid[0] * best.grid[1])};
   for (int d = 0; d < 3; ++d) {
     const auto u = static_cast<std::size_t>(d);

@@ -86,7 +86,10 @@ const std::vector<double>& coord_array(const ParticleData& p, int d) { return d 
 
 std::vector<std::byte> Halo::swap(int d, int dir, int tag_base, std::span<const std::byte> out) {
   Stopwatch sw(message_seconds_);
-  return comm_.exchange(dec_.neighbor(d, dir), dec_.neighbor(d, 1 - dir), tag(tag_base, d, dir), out);
+  // Past the end of a bounded axis there is no neighbour: nothing goes there and nothing comes back.
+  const int dest = dec_.neighbor(d, dir), src = dec_.neighbor(d, 1 - dir);
+  if (dest == Decomposition::kNoRank && !out.empty()) throw std::logic_error("halo: a message past a bounded end");
+  return comm_.exchange(dest, src, tag(tag_base, d, dir), out);
 }
 
 CellDomain Halo::cell_domain() const {
@@ -140,7 +143,9 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
       for (std::size_t i = 0; i < p.n_local; ++i) {
         const int k = owner_along(i, d);
         if (k == me) continue;
-        const int dir = ((k - me + np) % np) <= np / 2 ? 1 : 0;
+        // The shorter way round on a periodic axis; a bounded one has only the direct way.
+        const int dir = dec_.periodic[static_cast<std::size_t>(d)] ? (((k - me + np) % np) <= np / 2 ? 1 : 0)
+                                                                   : (k > me ? 1 : 0);
         out[dir].resize(out[dir].size() + kMoveBytes);
         p.pack<field::kMigrate>(i, out[dir].data() + out[dir].size() - kMoveBytes);
         leaving.push_back(static_cast<std::uint32_t>(i));
@@ -186,9 +191,9 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
   }
 }
 
-void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector<std::uint32_t>& cell_start,
-                        std::vector<std::uint32_t>& ghost_count) {
+void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const std::uint32_t> cell_start) {
   const std::size_t n_ghost_cells = grid.num_cells() - grid.num_owned_cells();
+  std::vector<std::uint32_t>& ghost_count = ghost_count_;
   ghost_count.assign(n_ghost_cells, 0);
   n_local_ = p.n_local;
   p.resize(p.n_local);
@@ -207,6 +212,8 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector
     for (int dir = 0; dir < 2; ++dir) {
       // The lowest owned layer goes to the neighbour below (its upper ghost layer), the highest above.
       // Locals are sorted by cell, so a layer is a set of cell ranges; earlier ghosts are scanned.
+      // Nothing is sent past the end of a bounded axis.
+      if (dec_.neighbor(d, dir) == Decomposition::kNoRank) continue;
       const int layer = dir == 0 ? 0 : own[u] - 1;
       auto& list = send_[u][static_cast<std::size_t>(dir)];
       const std::size_t e = (u + 1) % 3, f = (u + 2) % 3;

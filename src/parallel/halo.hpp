@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/particle_data.hpp"
@@ -32,11 +33,11 @@ class Halo {
   void keep_owned(ParticleData& p, const CellGrid& grid) const;
   // Sends every local particle that left this rank's cells to its owner; ghosts are dropped.
   void migrate(ParticleData& p, const CellGrid& grid);
-  // Appends ghost copies (id, species, position, velocity) sorted by ghost cell, and writes the number
-  // of ghosts of each ghost cell to ghost_count[cell - num_owned_cells()]. The locals must be sorted by
-  // cell, owned cell c holding [cell_start[c], cell_start[c+1]).
-  void build_ghosts(ParticleData& p, const CellGrid& grid, const std::vector<std::uint32_t>& cell_start,
-                    std::vector<std::uint32_t>& ghost_count);
+  // Appends ghost copies (id, species, position, velocity) sorted by ghost cell; ghost_counts() then
+  // holds the number of ghosts of each ghost cell (index cell - num_owned_cells()). The locals must be
+  // sorted by cell, owned cell c holding [cell_start[c], cell_start[c+1]).
+  void build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const std::uint32_t> cell_start);
+  const std::vector<std::uint32_t>& ghost_counts() const { return ghost_count_; }
   // Refreshes the fields flagged kRefresh (positions and velocities) of the ghosts of the last
   // build_ghosts (Verlet lists).
   void update_ghosts(ParticleData& p);
@@ -76,6 +77,7 @@ class Halo {
   std::array<std::array<std::vector<std::uint32_t>, 2>, 3> send_;  // arrival indices sent, per axis and side
   std::array<std::array<std::size_t, 2>, 3> recv_begin_{}, recv_count_{};  // arrival ranges received
   std::vector<std::uint32_t> slot_;         // ghost arrival order -> storage index
+  std::vector<std::uint32_t> ghost_count_;  // ghosts per ghost cell at the last build_ghosts
   double seconds_ = 0;
   double message_seconds_ = 0;
   std::uint64_t total_after_migration_ = 0;

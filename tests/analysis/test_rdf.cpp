@@ -164,6 +164,27 @@ TEST(RadialDistribution, RejectsRmaxAtHalfBox) {
   EXPECT_THROW(RadialDistribution(10, 0.0), std::invalid_argument);
 }
 
+// Along a bounded axis there is no image. Particles 0 (z = 0.2) and 1, 2 (z = L - 0.2) are 0.4 and
+// 0.5 apart through the z faces, 3 (y = 2, z = 0.9) is 1.22 from 0 inside the box and 1.30 from 2
+// through the faces; 1 and 2 are 0.3 apart. With rmax = 1.4: 5 pairs in a periodic box, 2 when z is
+// bounded. Lengths give 2, 3 and 7 cells along z (the cell stencil must not wrap there either).
+TEST(RadialDistribution, BoundedAxesHaveNoImages) {
+  for (const double lz : {3.0, 5.0, 11.0}) {
+    const std::vector<double> x = {1.0, 1.0, 1.0, 1.0}, y = {1.0, 1.0, 1.3, 2.0};
+    const std::vector<double> z = {0.2, lz - 0.2, lz - 0.2, 0.9};
+    auto pairs = [&](std::array<bool, 3> periodic) {
+      RadialDistribution rdf(10, 1.4);
+      rdf.sample(x.data(), y.data(), z.data(), x.size(), {4.0, 4.0, lz}, periodic);
+      std::uint64_t total = 0;
+      for (std::uint64_t c : rdf.counts()) total += c;
+      return total / 2;  // counts are of ordered pairs
+    };
+    EXPECT_EQ(pairs({true, true, true}), 5u) << "lz " << lz;
+    EXPECT_EQ(pairs({true, true, false}), 2u) << "lz " << lz;
+    EXPECT_EQ(pairs({false, false, false}), 2u) << "lz " << lz;
+  }
+}
+
 TEST(RadialDistribution, WritesCsv) {
   RadialDistribution rdf(5, 1.0);
   const std::array<double, 3> box{3.0, 3.0, 3.0};

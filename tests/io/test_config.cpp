@@ -264,6 +264,23 @@ TEST(Config, Defaults) {
   EXPECT_FALSE(spec.poiseuille.enabled);
   EXPECT_FALSE(spec.rdf.enabled);
   EXPECT_FALSE(spec.msd.enabled);
+  EXPECT_EQ(spec.periodic, (std::array<bool, 3>{true, true, true}));
+}
+
+// Bounded axes parse but are refused until walls exist to close them; the message says so.
+TEST(Config, PeriodicAxes) {
+  const auto with = [](std::string_view periodic) {
+    return "[system]\nbox = [10, 10, 10]\nperiodic = " + std::string(periodic) +
+           "\n[[species]]\nname = \"A\"\ndensity = 3\n";
+  };
+  EXPECT_EQ(parse_config(with("[true, true, true]"), "p.toml").periodic, (std::array<bool, 3>{true, true, true}));
+  expect_error(with("[true, true, false]"),
+               {"system.periodic = [true, true, false]", "bounded axis", "walls", "not implemented yet"});
+  expect_error(with("[false, true, true]"), {"system.periodic", "walls"});
+  expect_error(with("[true, true]"), {"system.periodic", "expected 3 booleans, got 2"});
+  expect_error(with("[true, 1, true]"), {"system.periodic[1]", "boolean"});
+  expect_error(with("true"), {"system.periodic", "an array of 3 booleans"});
+  expect_error(with("[true, true, true]\nperiodc = 1"), {"system.periodc", "system.periodic"});
 }
 
 TEST(Config, PresentTablesUseTheirDefaults) {

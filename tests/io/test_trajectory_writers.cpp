@@ -225,6 +225,21 @@ TEST_F(TrajectoryTest, DumpIsFlushedAfterEachFrame) {
   EXPECT_EQ(check_dump_frame(lines, 0, a, 10), lines.size());
 }
 
+// A bounded axis is written as LAMMPS "ff" (fixed, non-periodic), each axis on its own.
+TEST_F(TrajectoryTest, DumpBoxBoundsNameBoundedAxes) {
+  const auto p = dir_ / "bounded.lammpstrj";
+  const System a = System::make(3, 0.0);
+  FrameView f = a.view(7);
+  f.periodic = {true, false, true};
+  LammpsDumpWriter(p, {"id"}).write_frame(f);
+  f.periodic = {false, true, false};
+  LammpsDumpWriter(p, {"id"}, /*append=*/true).write_frame(f);
+  const auto lines = lines_of(slurp(p));
+  ASSERT_GT(lines.size(), 4u + 12u);
+  EXPECT_EQ(lines[4], "ITEM: BOX BOUNDS pp ff pp");
+  EXPECT_EQ(lines[9 + 3 + 4], "ITEM: BOX BOUNDS ff pp ff");
+}
+
 TEST_F(TrajectoryTest, DumpColumnsFollowCanonicalOrderForAnySubset) {
   const auto p = dir_ / "subset.lammpstrj";
   const System a = System::make(3, 0.0);

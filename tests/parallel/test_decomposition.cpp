@@ -1,6 +1,6 @@
 // Domain decomposition without MPI: the rank grid choice, its error messages, and the decomposed cell
 // grids, whose half stencils must together visit every pair of neighbouring cells exactly once with the
-// same periodic wrap as a single-domain grid.
+// same periodic wrap as a single-domain grid, with periodic and with bounded axes.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -94,6 +94,50 @@ std::multiset<Visit> visits(const CellGrid& g, const std::array<int, 3>& lo) {
   return out;
 }
 
+// The cell block and ghost layers of rank `d` (as Halo::cell_domain gives them).
+CellDomain domain_of(const Decomposition& d) {
+  CellDomain dom;
+  for (std::size_t a = 0; a < 3; ++a) {
+    dom.lo[a] = d.cell_lo[a];
+    dom.count[a] = d.grid[a] > 1 ? d.cell_count[a] : 0;
+    dom.ghost[a] = d.grid[a] > 1;
+  }
+  return dom;
+}
+
+TEST(Decomposition, BoundedAxesHaveNoNeighbourPastTheirEnds) {
+  const std::array<bool, 3> per{true, false, true};
+  for (int r = 0; r < 6; ++r) {
+    const Decomposition d = Decomposition::make(6, r, {6, 9, 6}, {6, 9, 6}, {2, 3, 1}, 1.0, per);
+    EXPECT_NE(d.neighbor(0, 0), Decomposition::kNoRank);  // periodic: always a neighbour
+    EXPECT_NE(d.neighbor(0, 1), Decomposition::kNoRank);
+    EXPECT_EQ(d.neighbor(1, 0) == Decomposition::kNoRank, d.coord[1] == 0) << "rank " << r;
+    EXPECT_EQ(d.neighbor(1, 1) == Decomposition::kNoRank, d.coord[1] == 2) << "rank " << r;
+    if (d.coord[1] > 0) {
+      EXPECT_EQ(d.neighbor(1, 0), r - 2);
+    }
+  }
+  // Fewer than 3 cells are allowed along a bounded axis, even split: nothing wraps there.
+  EXPECT_THROW(Decomposition::make(2, 0, {2, 8, 8}, {2, 8, 8}, {2, 1, 1}, 1.0), ConfigError);
+  EXPECT_EQ(Decomposition::make(2, 0, {2, 8, 8}, {2, 8, 8}, {2, 1, 1}, 1.0, {false, true, true}).grid,
+            (std::array<int, 3>{2, 1, 1}));
+  EXPECT_EQ(Decomposition::make(2, 1, {1, 8, 8}, {1.5, 8, 8}, {0, 0, 0}, 1.0, {false, true, true}).grid,
+            (std::array<int, 3>{1, 1, 2}));
+}
+
+// Two ranks along a bounded axis need one ghost layer each instead of two, so the automatic choice
+// splits a bounded axis of a cube where a periodic box would split z.
+TEST(Decomposition, AutomaticGridPrefersSplittingABoundedAxis) {
+  EXPECT_EQ(Decomposition::make(2, 0, {8, 8, 8}, {8, 8, 8}, {0, 0, 0}, 1.0).grid, (std::array<int, 3>{1, 1, 2}));
+  EXPECT_EQ(Decomposition::make(2, 0, {8, 8, 8}, {8, 8, 8}, {0, 0, 0}, 1.0, {false, true, true}).grid,
+            (std::array<int, 3>{2, 1, 1}));
+  EXPECT_EQ(Decomposition::make(2, 0, {8, 8, 8}, {8, 8, 8}, {0, 0, 0}, 1.0, {true, false, true}).grid,
+            (std::array<int, 3>{1, 2, 1}));
+  // Three ranks: the middle one has two layers either way, so the bounded axis brings no gain, and a
+  // bounded axis shorter than the others is not split before a longer periodic one.
+  EXPECT_EQ(Decomposition::make(3, 0, {6, 12, 12}, {6, 12, 12}, {0, 0, 0}, 1.0, {false, true, true}).grid[0], 1);
+}
+
 TEST(Decomposition, DecomposedStencilsVisitTheSameCellPairsAsOneDomain) {
   const Box box{{7.0, 6.0, 9.0}};
   const std::array<int, 3> cells = CellGrid::dims_for(box, 1.0);
@@ -117,6 +161,48 @@ TEST(Decomposition, DecomposedStencilsVisitTheSameCellPairsAsOneDomain) {
     }
     EXPECT_EQ(all, expected) << "grid " << format_grid(req);
   }
+}
+
+// The same with bounded axes: ghost layers past a bounded end stay empty and unvisited, and the
+// decomposed stencils still give exactly the single-domain cell pairs, with no wrap along a bounded axis.
+TEST(Decomposition, DecomposedStencilsWithBoundedAxes) {
+  for (const std::array<bool, 3> per : {std::array<bool, 3>{true, true, false}, {false, true, false}, {false, false, true}}) {
+    Box box{{7.0, 6.0, 9.0}};
+    box.periodic = per;
+    const std::array<int, 3> cells = CellGrid::dims_for(box, 1.0);
+    const CellGrid single(box, 1.0);
+    ASSERT_TRUE(single.has_half_stencil());
+    const std::multiset<Visit> expected = visits(single, {0, 0, 0});
+    for (const Visit& v : expected) {
+      EXPECT_TRUE(per[0] || std::get<6>(v) == 0);
+      EXPECT_TRUE(per[1] || std::get<7>(v) == 0);
+      EXPECT_TRUE(per[2] || std::get<8>(v) == 0);
+    }
+    for (const std::array<int, 3> req : {std::array<int, 3>{2, 1, 1}, {1, 3, 1}, {2, 2, 2}, {3, 1, 4}, {7, 2, 1}, {1, 1, 9}}) {
+      const int nr = req[0] * req[1] * req[2];
+      std::multiset<Visit> all;
+      for (int r = 0; r < nr; ++r) {
+        const Decomposition d = Decomposition::make(nr, r, cells, {7.0, 6.0, 9.0}, req, 1.0, per);
+        const CellGrid g(box, 1.0, domain_of(d));
+        const auto v = visits(g, d.cell_lo);
+        all.insert(v.begin(), v.end());
+      }
+      EXPECT_EQ(all, expected) << "grid " << format_grid(req);
+    }
+  }
+  // A bounded axis of two cells split over two ranks: one cell each, every pair of cells once.
+  Box thin{{2.5, 6.0, 6.0}};
+  thin.periodic = {false, true, true};
+  const std::array<int, 3> cells = CellGrid::dims_for(thin, 1.0);
+  ASSERT_EQ(cells[0], 2);
+  const std::multiset<Visit> expected = visits(CellGrid(thin, 1.0), {0, 0, 0});
+  std::multiset<Visit> all;
+  for (int r = 0; r < 2; ++r) {
+    const Decomposition d = Decomposition::make(2, r, cells, {2.5, 6.0, 6.0}, {2, 1, 1}, 1.0, thin.periodic);
+    const auto v = visits(CellGrid(thin, 1.0, domain_of(d)), d.cell_lo);
+    all.insert(v.begin(), v.end());
+  }
+  EXPECT_EQ(all, expected);
 }
 
 }  // namespace

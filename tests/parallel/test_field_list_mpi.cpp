@@ -10,6 +10,7 @@
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
+#include "engine/domain_exchange.hpp"
 #include "io/state_checkpoint.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -43,7 +44,7 @@ struct World {
 };
 
 // An 8 x 8 x 8 box with 1536 particles, each rank keeping its own; then the production neighbour
-// build (migration, cell sort, ghosts).
+// rebuild (migration, cell sort, ghosts).
 void make_world(World& w) {
   w.box.len = {8, 8, 8};
   const Comm comm = Comm::world();
@@ -65,7 +66,7 @@ void make_world(World& w) {
     p.molecule[k] = molecule_of(id);
   }
   w.halo.keep_owned(p, w.global);
-  w.nlist.build(p, w.box, &w.halo);
+  rebuild_neighbors(w.nlist, p, w.box, w.halo);
 }
 
 // Every local carries its own values; ghosts carry rho (kGhost) but not the molecule id.
@@ -103,7 +104,7 @@ TEST(FieldList, ANewFieldFollowsSortMigrationAndGhosts) {
       }
     }
     const std::size_t before = p.n_local;
-    w.nlist.build(p, w.box, &w.halo);
+    rebuild_neighbors(w.nlist, p, w.box, w.halo);
     moved += before > p.n_local ? before - p.n_local : p.n_local - before;
     expect_fields_follow(w);
   }

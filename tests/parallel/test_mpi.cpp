@@ -1,5 +1,6 @@
 // The mesodpd program under mpirun (CTest label mpi): results that do not depend on the rank count,
-// conservation under decomposition, restarts on another rank count, and refused decompositions.
+// conservation under decomposition, restarts on another rank count, refused decompositions, and a box
+// with bounded axes (tests/parallel/bounded_run.cpp).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -34,13 +35,15 @@ struct Result {
   std::string out, err;
 };
 
-// `mpirun -np N mesodpd ARGS` in `dir`. Ranks yield when idle, so more ranks than cores stay usable.
-Result mpirun(const fs::path& dir, int ranks, const std::string& args, int threads = 1) {
+// `mpirun -np N mesodpd ARGS` in `dir` (or another `program`). Ranks yield when idle, so more ranks than
+// cores stay usable.
+Result mpirun(const fs::path& dir, int ranks, const std::string& args, int threads = 1,
+              const std::string& program = mesodpd::test::mesodpd_bin()) {
   const std::string cmd = "cd '" + dir.string() + "' && OMP_NUM_THREADS=" + std::to_string(threads) +
                           " OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
                           "OMPI_MCA_mpi_yield_when_idle=1 OMPI_MCA_rmaps_base_oversubscribe=1 timeout 300 '" +
                           std::string(MESODPD_MPIEXEC) + "' --oversubscribe -np " + std::to_string(ranks) + " '" +
-                          mesodpd::test::mesodpd_bin() + "' " + args + " > mpi_stdout.txt 2> mpi_stderr.txt";
+                          program + "' " + args + " > mpi_stdout.txt 2> mpi_stderr.txt";
   const int status = std::system(cmd.c_str());
   Result r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -241,3 +244,55 @@ TEST(Mpi, BlowUpIsReportedLikeOnOneRank) {
 }
 
 }  // namespace
+
+// Bounded axes under decomposition: no ghost exchange or migration across a bounded face, and the same
+// cell pairs as one rank. Step-0 forces and the state after 5 steps (positions, velocities, forces in id
+// order) must be byte-identical on 1, 2 and 4 ranks, with the bounded axis split. With bounded axes the
+// decomposition sends fewer ghosts than the periodic box on the same grid (none across the faces).
+TEST(Mpi, BoundedAxesGiveTheSameBitsOnOneTwoAndFourRanks) {
+  const fs::path dir = fresh_dir();
+  struct Case {
+    std::string name, periodic, box;
+    std::vector<std::string> grids;  // the first is one rank
+  };
+  const std::vector<Case> cases = {
+      {"z", "ttf", "6 6 6", {"1 1 1", "1 1 2", "1 2 2", "1 1 4"}},
+      {"xz", "ftf", "6 6 6", {"1 1 1", "2 1 1", "2 1 2"}},
+      // Two cells along the bounded axis: allowed under MPI (no wrap), one cell per rank.
+      {"thin", "ttf", "6 6 2.5", {"1 1 1", "1 1 2", "2 1 2"}},
+  };
+  for (const Case& c : cases) {
+    std::string reference;
+    for (const std::string& grid : c.grids) {
+      const int ranks = [&] {
+        int a = 0, b = 0, e = 0;
+        std::sscanf(grid.c_str(), "%d %d %d", &a, &b, &e);
+        return a * b * e;
+      }();
+      const std::string file = c.name + "_" + std::to_string(ranks) + ".bin";
+      const Result r = mpirun(dir, ranks, file + " " + c.periodic + " " + c.box + " " + grid + " 5", 1,
+                              MESODPD_BOUNDED_RUN);
+      ASSERT_EQ(r.code, 0) << c.name << " on " << ranks << " ranks: " << r.err;
+      EXPECT_NE(r.out.find("grid " + grid), std::string::npos) << r.out;
+      const std::string bits = read_all(dir / file);
+      ASSERT_GT(bits.size(), 1000u);
+      if (ranks == 1) {
+        EXPECT_NE(r.out.find("ghosts 0"), std::string::npos) << r.out;
+        reference = bits;
+      } else {
+        EXPECT_EQ(bits, reference) << c.name << ": " << ranks << " ranks (grid " << grid << ") differ from one rank";
+      }
+    }
+  }
+  // Ghost counts: 2 ranks along a periodic z exchange both faces of their slabs; along a bounded z only
+  // the face they share.
+  auto ghosts = [&](const std::string& periodic) {
+    const Result r = mpirun(dir, 2, "g.bin " + periodic + " 6 6 6 1 1 2 0", 1, MESODPD_BOUNDED_RUN);
+    EXPECT_EQ(r.code, 0) << r.err;
+    const auto at = r.out.find("ghosts ");
+    return at == std::string::npos ? 0L : std::atol(r.out.c_str() + at + 7);
+  };
+  const long periodic = ghosts("ttt"), bounded = ghosts("ttf");
+  EXPECT_GT(bounded, 0);
+  EXPECT_LT(bounded, periodic);
+}

@@ -51,9 +51,9 @@ PairSet brute_force_pairs(const ParticleData& p, const Box& box, double range) {
   PairSet out;
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t j = i + 1; j < p.n_local; ++j) {
-      const double dx = minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x);
-      const double dy = minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y);
-      const double dz = minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z);
+      const double dx = minimum_image(p.x[i] - p.x[j], box.image_len(0), box.half_image_len(0));
+      const double dy = minimum_image(p.y[i] - p.y[j], box.image_len(1), box.half_image_len(1));
+      const double dz = minimum_image(p.z[i] - p.z[j], box.image_len(2), box.half_image_len(2));
       if (dx * dx + dy * dy + dz * dz < range * range)
         out.insert({std::min(p.id[i], p.id[j]), std::max(p.id[i], p.id[j])});
     }
@@ -68,9 +68,9 @@ struct ReferencePair {
 };
 ReferencePair reference_pair(const SimulationSpec& spec, const DpdPairParams& pp, NoiseKind kind,
                              const ParticleData& p, const Box& box, std::size_t i, std::size_t j, double range) {
-  const double d[3] = {minimum_image(p.x[i] - p.x[j], box.len.x, 0.5 * box.len.x),
-                       minimum_image(p.y[i] - p.y[j], box.len.y, 0.5 * box.len.y),
-                       minimum_image(p.z[i] - p.z[j], box.len.z, 0.5 * box.len.z)};
+  const double d[3] = {minimum_image(p.x[i] - p.x[j], box.image_len(0), box.half_image_len(0)),
+                       minimum_image(p.y[i] - p.y[j], box.image_len(1), box.half_image_len(1)),
+                       minimum_image(p.z[i] - p.z[j], box.image_len(2), box.half_image_len(2))};
   const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   ReferencePair out;
   if (r >= range || r == 0) return out;
