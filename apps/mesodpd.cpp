@@ -17,6 +17,7 @@
 #include "io/config.hpp"
 #include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"
+#include "parallel/openmp_wait.hpp"
 
 namespace {
 
@@ -57,10 +58,11 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   const std::uint64_t first = sim.current_step();
   if (comm.root()) {
     const auto& g = sim.halo().decomposition().grid;
-    fmt::print("mesodpd {}: {} particles, box {} x {} x {}, steps {} -> {}, {} rank(s){}, {} thread(s) per rank, output in {}\n",
+    fmt::print("mesodpd {}: {} particles, box {} x {} x {}, steps {} -> {}, {} rank(s){}, {} thread(s) per rank ({}), "
+               "output in {}\n",
                MESODPD_VERSION, sim.total_particles(), sim.box().len.x, sim.box().len.y, sim.box().len.z, first,
                sim.final_step(), comm.size(), comm.size() > 1 ? fmt::format(" (grid {}x{}x{})", g[0], g[1], g[2]) : "",
-               nthreads, out);
+               nthreads, openmp_wait_description(), out);
     std::fflush(stdout);
   }
   try {
@@ -85,6 +87,8 @@ int run_command(const std::string& config, const std::string& out, int threads, 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before MPI and OpenMP start: idle threads spin briefly, then sleep (docs/performance.md).
+  mesodpd::bound_openmp_spin_wait(argv);
   mesodpd::MpiSession mpi(argc, argv);
   const mesodpd::Comm world = mesodpd::Comm::world();
   CLI::App app{"mesodpd: dissipative particle dynamics engine"};

@@ -1,7 +1,6 @@
 // Kinetic-theory estimates (g(r) = 1) of DPD transport coefficients, used to check measured values.
 #pragma once
 #include <numbers>
-#include <string>
 
 #include "mesodpd/spec.hpp"
 
@@ -41,7 +40,7 @@ struct KineticViscosity {
   bool applies = false;
   double eta = 0.0;                  // seed 000 Eq. 16 / Table 1 with the shared pair parameters
   double gamma = 0.0, rd = 0.0, s = 0.0;  // the shared pair parameters (where `applies`)
-  std::string why_not;
+  const char* why_not = "";          // where not `applies`: what differs
 };
 
 inline KineticViscosity kinetic_viscosity_of(const SimulationSpec& spec, double rho) {

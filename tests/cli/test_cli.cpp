@@ -718,6 +718,26 @@ TEST(Cli, OverheatedRunWarnsAndSaysWhatToChange) {
   EXPECT_NE(ok.out.find("mean temperature"), std::string::npos) << ok.out;
 }
 
+// The banner line of `mesodpd run` started with `env` (e.g. "-u OMP_WAIT_POLICY GOMP_SPINCOUNT=7").
+std::string banner_with_env(const fs::path& dir, const std::string& env) {
+  const std::string cmd = "cd '" + dir.string() + "' && env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT " + env +
+                          " OMP_NUM_THREADS=2 timeout 60 '" + mesodpd::test::mesodpd_bin() +
+                          "' run run.toml --out out > cli_stdout.txt 2> cli_stderr.txt";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "cli_stderr.txt");
+  const auto lines = lines_of(slurp(dir / "cli_stdout.txt"));
+  return lines.empty() ? "" : lines.front();
+}
+
+TEST(Cli, WaitingThreadsSpinBrieflyUnlessTheUserChose) {
+  const fs::path dir = work_dir();
+  write_text(dir / "run.toml", small_config("", "steps = 2"));
+  // Nothing set: the program re-executes itself with a short spin before OpenMP starts.
+  EXPECT_NE(banner_with_env(dir, "").find("2 thread(s) per rank (GOMP_SPINCOUNT=1000)"), std::string::npos);
+  // A user's choice stands.
+  EXPECT_NE(banner_with_env(dir, "GOMP_SPINCOUNT=50000").find("(GOMP_SPINCOUNT=50000)"), std::string::npos);
+  EXPECT_NE(banner_with_env(dir, "OMP_WAIT_POLICY=active").find("(OMP_WAIT_POLICY=active)"), std::string::npos);
+}
+
 TEST(Cli, RdfAndMsdAreWritten) {
   const fs::path dir = work_dir();
   const std::string analysis = "[analysis.rdf]\nbins = 20\nrmax = 2.0\nevery = 5\n\n[analysis.msd]\nevery = 2\n";
