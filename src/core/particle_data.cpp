@@ -1,4 +1,4 @@
-// Reordering of the particle arrays (spatial sorting).
+// Reordering of the particle arrays (spatial sorting), driven by the field list.
 #include "core/particle_data.hpp"
 
 namespace mesodpd {
@@ -18,19 +18,18 @@ void apply_order(std::vector<T>& v, const std::vector<std::uint32_t>& order, std
 }  // namespace
 
 void ParticleData::permute(const std::vector<std::uint32_t>& order, std::size_t capacity, Forces forces) {
-  for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &hx, &hy, &hz}) apply_order(*v, order, spare_real_, capacity);
-  for (auto* v : {&fx, &fy, &fz}) {
-    if (forces == Forces::Keep) {
-      apply_order(*v, order, spare_real_, capacity);
+  for_each_field([&](const FieldInfo& f, auto& v) {
+    using T = typename std::remove_reference_t<decltype(v)>::value_type;
+    if (forces == Forces::Discard && (f.flags & field::kForce)) {
+      if (v.capacity() < capacity) v.reserve(capacity);
+      v.resize(order.size());
     } else {
-      if (v->capacity() < capacity) v->reserve(capacity);
-      v->resize(order.size());
+      apply_order(v, order, spare<T>(), capacity);
     }
-  }
-  for (auto* v : {&species, &ix, &iy, &iz}) apply_order(*v, order, spare_int_, capacity);
-  apply_order(id, order, spare_id_, capacity);
+  });
   n_local = order.size();
   n_ghost = 0;
+  generation_ = next_generation();
 }
 
 }  // namespace mesodpd

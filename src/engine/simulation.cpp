@@ -18,6 +18,7 @@
 #include "engine/initial_state.hpp"
 #include "io/byte_buffer.hpp"
 #include "io/checkpoint_file.hpp"
+#include "io/state_checkpoint.hpp"
 
 namespace mesodpd {
 
@@ -257,75 +258,52 @@ std::string Simulation::run() {
   return summary;
 }
 
-namespace {
-constexpr std::uint64_t kStateTag = 0x4d45534f44504433ull;  // "MESODPD3": payload layout of this file
-}
-
 void Simulation::write_checkpoint(const std::filesystem::path& file) const {
   // The whole system in id order, written by the root: the file does not depend on the rank count,
   // and a run restarts from it on any number of ranks.
   const ParticleData all = gather_by_id(p_, halo_.comm(), n_total_);
   halo_.comm().on_root([&] {
-    ByteWriter w;
-    w.put<std::uint64_t>(kStateTag);
-    w.put<std::uint64_t>(step_);
-    w.put<std::uint64_t>(neighbor_builds());  // so thermo.csv's neighbor_builds column continues across a restart
-    w.put<std::uint64_t>(spec_.seed);
-    w.put<double>(spec_.dt);
-    w.put<std::uint64_t>(spec_.species.size());
-    w.put<double>(box_.len.x);
-    w.put<double>(box_.len.y);
-    w.put<double>(box_.len.z);
-    const std::size_t n = all.n_local;
-    auto first_n = [n](const auto& v) { return std::span(v.data(), n); };
-    w.put_vector(first_n(all.id));
-    w.put_vector(first_n(all.species));
-    for (const auto* v : {&all.x, &all.y, &all.z, &all.vx, &all.vy, &all.vz, &all.fx, &all.fy, &all.fz})
-      w.put_vector(first_n(*v));
-    for (const auto* v : {&all.ix, &all.iy, &all.iz}) w.put_vector(first_n(*v));
-    w.put<std::uint8_t>(observers_ ? 1 : 0);
-    if (observers_) observers_->save(w);
-    write_checkpoint_file(file, w.bytes());
+    StateHeader h;
+    h.step = step_;
+    h.neighbor_builds = neighbor_builds();
+    h.seed = spec_.seed;
+    h.dt = spec_.dt;
+    h.n_species = spec_.species.size();
+    h.box = {box_.len.x, box_.len.y, box_.len.z};
+    std::vector<std::byte> observer_state;
+    if (observers_) {
+      ByteWriter w;
+      observers_->save(w);
+      observer_state = w.take();
+    }
+    write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr);
   });
 }
 
 void Simulation::load_checkpoint(const std::filesystem::path& file) {
-  const std::vector<std::byte> bytes = read_checkpoint_file(file);
-  ByteReader r(bytes, file.string());
-  if (r.get<std::uint64_t>() != kStateTag) throw ConfigError(fmt::format("{}: not a mesodpd state checkpoint", file.string()));
-  step_ = r.get<std::uint64_t>();
-  neighbor_builds_before_ = r.get<std::uint64_t>();
-  const auto seed = r.get<std::uint64_t>();
-  (void)r.get<double>();
-  const auto ns = r.get<std::uint64_t>();
-  if (ns != spec_.species.size())
-    throw ConfigError(fmt::format("{}: checkpoint has {} species but the config defines {}", file.string(), ns,
+  StateCheckpoint c = read_state_checkpoint(file);
+  const StateHeader& h = c.header;
+  if (h.n_species != spec_.species.size())
+    throw ConfigError(fmt::format("{}: checkpoint has {} species but the config defines {}", file.string(), h.n_species,
                                   spec_.species.size()));
-  if (seed != spec_.seed)
-    throw ConfigError(fmt::format("system.seed: {} differs from the checkpoint's seed {} ({})", spec_.seed, seed,
+  if (h.seed != spec_.seed)
+    throw ConfigError(fmt::format("system.seed: {} differs from the checkpoint's seed {} ({})", spec_.seed, h.seed,
                                   file.string()));
-  box_.len.x = r.get<double>();
-  box_.len.y = r.get<double>();
-  box_.len.z = r.get<double>();
-  p_.id = r.get_vector<std::uint32_t>();
-  const std::size_t n = p_.id.size();
-  p_.species = r.get_vector<std::int32_t>();
-  for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz}) *v = r.get_vector<double>();
-  for (auto* v : {&p_.ix, &p_.iy, &p_.iz}) *v = r.get_vector<std::int32_t>();
+  // The stored forces and the integrator's state belong to the checkpoint's time step, and the noise
+  // amplitude scales with 1/sqrt(dt): continuing with another dt would silently be another run.
+  if (h.dt != spec_.dt)
+    throw ConfigError(fmt::format("integrator.dt: {} differs from the checkpoint's dt {} ({}); set integrator.dt = {} "
+                                  "to continue that run",
+                                  spec_.dt, h.dt, file.string(), h.dt));
+  step_ = h.step;
+  neighbor_builds_before_ = h.neighbor_builds;
+  box_.len = {h.box[0], h.box[1], h.box[2]};
+  p_ = std::move(c.particles);
   // Observer state is applied once the observers exist (end of the constructor).
-  if (r.get<std::uint8_t>() != 0) {
-    const auto rest = r.get_bytes(r.remaining());
-    pending_observer_state_.assign(rest.begin(), rest.end());
-  }
-  p_.n_local = n;
-  p_.n_ghost = 0;
-  p_.hx.assign(n, 0);
-  p_.hy.assign(n, 0);
-  p_.hz.assign(n, 0);
-  for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz})
-    if (v->size() != n) throw ConfigError(fmt::format("{}: inconsistent array sizes in checkpoint", file.string()));
+  if (c.observer_state) pending_observer_state_ = std::move(*c.observer_state);
+  const std::size_t n = p_.n_local;
   for (std::size_t i = 0; i < n; ++i)
-    if (p_.species[i] < 0 || static_cast<std::size_t>(p_.species[i]) >= ns)
+    if (p_.species[i] < 0 || static_cast<std::size_t>(p_.species[i]) >= h.n_species)
       throw ConfigError(fmt::format("{}: particle {} has an invalid species", file.string(), p_.id[i]));
   if (step_ > final_step_)
     throw ConfigError(fmt::format("{}: the checkpoint {} is already at step {}, beyond the requested {}",

@@ -7,26 +7,47 @@
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
 
 namespace mesodpd {
 
 namespace {
 
-// Everything a particle carries when it changes owner.
-struct MoveRecord {
-  double v[12];  // x y z, vx vy vz, fx fy fz, hx hy hz
-  std::uint32_t id;
-  std::int32_t species, ix, iy, iz;
+// Records are the fields of the particle field list (core/particle_data.hpp) packed back to back:
+// a moving particle carries every field flagged kMigrate, a ghost those flagged kGhost, a ghost
+// refresh those flagged kRefresh. Adding a field to the list changes the records, not this file.
+constexpr std::size_t kMoveBytes = ParticleData::record_bytes<field::kMigrate>();
+constexpr std::size_t kRefreshBytes = ParticleData::record_bytes<field::kRefresh>();
+// A ghost record starts with its cell coordinates in the receiver's grid frame (3 x int16 and a pad),
+// then the ghost fields.
+constexpr std::size_t kCellBytes = 4 * sizeof(std::int16_t);
+constexpr std::size_t kGhostBytes = kCellBytes + ParticleData::record_bytes<field::kGhost>();
+
+// Ghost records in order of arrival, kGhostBytes each.
+class GhostRecords {
+ public:
+  std::size_t size() const { return bytes_.size() / kGhostBytes; }
+  std::byte* append() {
+    bytes_.resize(bytes_.size() + kGhostBytes);
+    return bytes_.data() + bytes_.size() - kGhostBytes;
+  }
+  void append(const std::byte* record) { std::memcpy(append(), record, kGhostBytes); }
+  std::byte* at(std::size_t g) { return bytes_.data() + g * kGhostBytes; }
+  const std::byte* at(std::size_t g) const { return bytes_.data() + g * kGhostBytes; }
+  std::vector<std::byte>& bytes() { return bytes_; }
+
+ private:
+  std::vector<std::byte> bytes_;
 };
 
-// What a pair force reads from a ghost, plus its cell coordinates in the receiver's grid frame.
-struct GhostRecord {
-  double x, y, z, vx, vy, vz;
-  std::uint32_t id;
-  std::int32_t species;
-  std::int16_t c[3];
-  std::int16_t pad;
-};
+std::int16_t cell_coord(const std::byte* record, std::size_t d) {
+  std::int16_t c;
+  std::memcpy(&c, record + d * sizeof(std::int16_t), sizeof c);
+  return c;
+}
+void set_cell_coord(std::byte* record, std::size_t d, std::int16_t c) {
+  std::memcpy(record + d * sizeof(std::int16_t), &c, sizeof c);
+}
 
 template <class T>
 std::span<const std::byte> as_bytes_of(const std::vector<T>& v) {
@@ -41,29 +62,13 @@ std::vector<T> records_from(const std::vector<std::byte>& bytes) {
   return out;
 }
 
+// Number of records of `stride` bytes in a message, refusing a message that is not whole records.
+std::size_t record_count(const std::vector<std::byte>& bytes, std::size_t stride) {
+  if (bytes.size() % stride != 0) throw std::runtime_error("halo: truncated message");
+  return bytes.size() / stride;
+}
+
 int tag(int base, int d, int dir) { return base + 2 * d + dir; }
-
-MoveRecord pack_particle(const ParticleData& p, std::size_t i) {
-  MoveRecord r{};
-  const std::vector<double>* arrays[12] = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.hx, &p.hy, &p.hz};
-  for (int q = 0; q < 12; ++q) r.v[q] = (*arrays[q])[i];
-  r.id = p.id[i];
-  r.species = p.species[i];
-  r.ix = p.ix[i];
-  r.iy = p.iy[i];
-  r.iz = p.iz[i];
-  return r;
-}
-
-void unpack_particle(const MoveRecord& r, ParticleData& p, std::size_t i) {
-  std::vector<double>* arrays[12] = {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.hx, &p.hy, &p.hz};
-  for (int q = 0; q < 12; ++q) (*arrays[q])[i] = r.v[q];
-  p.id[i] = r.id;
-  p.species[i] = r.species;
-  p.ix[i] = r.ix;
-  p.iy[i] = r.iy;
-  p.iz[i] = r.iz;
-}
 
 class Stopwatch {
  public:
@@ -133,7 +138,7 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
     for (int d = 0; d < 3; ++d) {
       if (!dec_.decomposed(d)) continue;
       const int np = dec_.grid[static_cast<std::size_t>(d)], me = dec_.coord[static_cast<std::size_t>(d)];
-      std::vector<MoveRecord> out[2];
+      std::vector<std::byte> out[2];
       std::vector<std::uint32_t> leaving;
       for (std::size_t i = 0; i < p.n_local; ++i) {
         const int k = owner_along(i, d);
@@ -141,26 +146,28 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
         // The shorter way round on a periodic axis; a bounded one has only the direct way.
         const int dir = dec_.periodic[static_cast<std::size_t>(d)] ? (((k - me + np) % np) <= np / 2 ? 1 : 0)
                                                                    : (k > me ? 1 : 0);
-        out[dir].push_back(pack_particle(p, i));
+        out[dir].resize(out[dir].size() + kMoveBytes);
+        p.pack<field::kMigrate>(i, out[dir].data() + out[dir].size() - kMoveBytes);
         leaving.push_back(static_cast<std::uint32_t>(i));
       }
-      std::vector<MoveRecord> in[2];
-      for (int dir = 0; dir < 2; ++dir)
-        in[dir] = records_from<MoveRecord>(
-            swap(d, dir, 100, as_bytes_of(out[dir])));
-      // Fill the holes from the end (the storage order is rebuilt by the cell sort that follows).
+      std::vector<std::byte> in[2];
+      for (int dir = 0; dir < 2; ++dir) in[dir] = swap(d, dir, 100, out[dir]);
+      // Fill the holes from the end (the storage order is rebuilt by the cell sort that follows). Every
+      // field moves, so a field that does not migrate keeps its value on the particles that stay.
+      constexpr unsigned kAll = ~0u;
       std::size_t end = p.n_local;
       for (auto it = leaving.rbegin(); it != leaving.rend(); ++it) {
         --end;
-        if (*it != end) unpack_particle(pack_particle(p, end), p, *it);
+        if (*it != end) p.copy_to<kAll>(end, p, *it);
       }
       p.n_local = end;
-      const std::size_t n0 = p.n_local, m = in[0].size() + in[1].size();
+      const std::size_t n0 = p.n_local, m = record_count(in[0], kMoveBytes) + record_count(in[1], kMoveBytes);
+      p.resize(n0);  // arrivals start from zeros in the fields that do not migrate
       p.resize(n0 + m);
       p.n_local = n0 + m;
       std::size_t i = n0;
       for (int dir = 0; dir < 2; ++dir)
-        for (const MoveRecord& r : in[dir]) unpack_particle(r, p, i++);
+        for (std::size_t r = 0; r < in[dir].size(); r += kMoveBytes) p.unpack<field::kMigrate>(in[dir].data() + r, i++);
     }
     std::uint64_t foreign = 0;
     for (std::size_t i = 0; i < p.n_local; ++i)
@@ -176,6 +183,7 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
       comm_.sum(std::span<std::uint64_t>(counts));
     }
     total_after_migration_ = counts[1];
+    p.mark_reordered();
     if (counts[0] == 0) return;
     if (pass + 1 >= max_passes)
       throw std::runtime_error(fmt::format("halo: {} particles still on the wrong rank after {} migration passes",
@@ -194,13 +202,13 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const s
   if (!active()) return;
   Stopwatch sw(seconds_);
   const auto& own = grid.owned_dims();
-  std::vector<GhostRecord> ghosts;  // in order of arrival, with cell coordinates in this rank's frame
+  GhostRecords ghosts;  // in order of arrival, with cell coordinates in this rank's frame
   for (int d = 0; d < 3; ++d) {
     const auto u = static_cast<std::size_t>(d);
     for (int dir = 0; dir < 2; ++dir) send_[u][static_cast<std::size_t>(dir)].clear();
     if (!dec_.decomposed(d)) continue;
     const std::size_t have = ghosts.size();
-    std::vector<GhostRecord> out[2];
+    GhostRecords out[2];
     for (int dir = 0; dir < 2; ++dir) {
       // The lowest owned layer goes to the neighbour below (its upper ghost layer), the highest above.
       // Locals are sorted by cell, so a layer is a set of cell ranges; earlier ghosts are scanned.
@@ -218,28 +226,29 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const s
           const auto cell = static_cast<std::size_t>(grid.index_of(c[0], c[1], c[2]));
           for (std::uint32_t i = cell_start[cell]; i < cell_start[cell + 1]; ++i) {
             list.push_back(i);
-            out[dir].push_back(GhostRecord{p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i], p.id[i], p.species[i],
-                                           {static_cast<std::int16_t>(c[0]), static_cast<std::int16_t>(c[1]),
-                                            static_cast<std::int16_t>(c[2])},
-                                           0});
+            std::byte* r = out[dir].append();
+            for (std::size_t q = 0; q < 3; ++q) set_cell_coord(r, q, static_cast<std::int16_t>(c[q]));
+            set_cell_coord(r, 3, 0);
+            p.pack<field::kGhost>(i, r + kCellBytes);
           }
         }
       for (std::size_t g = 0; g < have; ++g)
-        if (ghosts[g].c[u] == layer) {
+        if (cell_coord(ghosts.at(g), u) == layer) {
           list.push_back(static_cast<std::uint32_t>(n_local_ + g));
-          out[dir].push_back(ghosts[g]);
+          out[dir].append(ghosts.at(g));
         }
     }
     for (int dir = 0; dir < 2; ++dir) {
-      std::vector<GhostRecord> in = records_from<GhostRecord>(
-          swap(d, dir, 200, as_bytes_of(out[dir])));
+      const std::vector<std::byte> in = swap(d, dir, 200, out[dir].bytes());
+      const std::size_t m = record_count(in, kGhostBytes);
       recv_begin_[u][static_cast<std::size_t>(dir)] = n_local_ + ghosts.size();
-      recv_count_[u][static_cast<std::size_t>(dir)] = in.size();
+      recv_count_[u][static_cast<std::size_t>(dir)] = m;
       // What the neighbour above sent (its lowest layer) is this rank's upper ghost layer, and vice versa.
       const std::int16_t layer = static_cast<std::int16_t>(dir == 0 ? own[u] : -1);
-      for (GhostRecord& r : in) {
-        r.c[u] = layer;
-        ghosts.push_back(r);
+      for (std::size_t k = 0; k < m; ++k) {
+        std::byte* r = ghosts.append();
+        std::memcpy(r, in.data() + k * kGhostBytes, kGhostBytes);
+        set_cell_coord(r, u, layer);
       }
     }
   }
@@ -248,8 +257,8 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const s
   const std::size_t owned = grid.num_owned_cells();
   std::vector<std::uint32_t> cell(ng);
   for (std::size_t g = 0; g < ng; ++g) {
-    const auto& c = ghosts[g].c;
-    const int idx = grid.index_of(c[0], c[1], c[2]);
+    const std::byte* r = ghosts.at(g);
+    const int idx = grid.index_of(cell_coord(r, 0), cell_coord(r, 1), cell_coord(r, 2));
     if (idx < static_cast<int>(owned)) throw std::runtime_error("halo: a ghost landed in an owned cell");
     cell[g] = static_cast<std::uint32_t>(static_cast<std::size_t>(idx) - owned);
     ++ghost_count[cell[g]];
@@ -260,55 +269,45 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const s
   for (std::size_t g = 0; g < ng; ++g) slot_[g] = static_cast<std::uint32_t>(n_local_ + fill[cell[g]]++);
   p.resize(n_local_ + ng);
   p.n_ghost = ng;
-  for (std::size_t g = 0; g < ng; ++g) {
-    const std::size_t s = slot_[g];
-    const GhostRecord& r = ghosts[g];
-    p.x[s] = r.x;
-    p.y[s] = r.y;
-    p.z[s] = r.z;
-    p.vx[s] = r.vx;
-    p.vy[s] = r.vy;
-    p.vz[s] = r.vz;
-    p.id[s] = r.id;
-    p.species[s] = r.species;
+  for (std::size_t g = 0; g < ng; ++g) p.unpack<field::kGhost>(ghosts.at(g) + kCellBytes, slot_[g]);
+  p.mark_reordered();
+}
+
+template <class Pack, class Unpack>
+void Halo::forward(std::size_t record_bytes, int tag_base, Pack&& pack, Unpack&& unpack) {
+  // Along the axes in the order of the build, so ghosts forwarded by an intermediate rank carry the
+  // values that rank has just received.
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    if (!dec_.decomposed(d)) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const auto& list = send_[u][static_cast<std::size_t>(dir)];
+      std::vector<std::byte> out(record_bytes * list.size());
+      for (std::size_t k = 0; k < list.size(); ++k) pack(storage_of(list[k]), out.data() + k * record_bytes);
+      const std::vector<std::byte> in = swap(d, dir, tag_base, out);
+      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
+      if (in.size() != record_bytes * m) throw std::runtime_error("halo: ghost refresh size mismatch");
+      for (std::size_t k = 0; k < m; ++k) unpack(in.data() + k * record_bytes, storage_of(b + k));
+    }
   }
 }
 
 void Halo::update_ghosts(ParticleData& p) {
   if (!active()) return;
   Stopwatch sw(seconds_);
-  for (int d = 0; d < 3; ++d) {
-    const auto u = static_cast<std::size_t>(d);
-    if (!dec_.decomposed(d)) continue;
-    for (int dir = 0; dir < 2; ++dir) {
-      const auto& list = send_[u][static_cast<std::size_t>(dir)];
-      std::vector<double> out(6 * list.size());
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        const std::size_t s = storage_of(list[k]);
-        double* o = &out[6 * k];
-        o[0] = p.x[s];
-        o[1] = p.y[s];
-        o[2] = p.z[s];
-        o[3] = p.vx[s];
-        o[4] = p.vy[s];
-        o[5] = p.vz[s];
-      }
-      const std::vector<double> in = records_from<double>(
-          swap(d, dir, 300, as_bytes_of(out)));
-      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
-      if (in.size() != 6 * m) throw std::runtime_error("halo: ghost refresh size mismatch");
-      for (std::size_t k = 0; k < m; ++k) {
-        const std::size_t s = storage_of(b + k);
-        const double* v = &in[6 * k];
-        p.x[s] = v[0];
-        p.y[s] = v[1];
-        p.z[s] = v[2];
-        p.vx[s] = v[3];
-        p.vy[s] = v[4];
-        p.vz[s] = v[5];
-      }
-    }
-  }
+  forward(
+      kRefreshBytes, 300, [&](std::size_t s, std::byte* out) { p.pack<field::kRefresh>(s, out); },
+      [&](const std::byte* in, std::size_t s) { p.unpack<field::kRefresh>(in, s); });
+}
+
+void Halo::forward_field(ParticleData& p, std::vector<double>& f) {
+  if (!active()) return;
+  if (f.size() < p.size())
+    throw std::runtime_error(fmt::format("halo: forward_field got {} values for {} particles", f.size(), p.size()));
+  Stopwatch sw(seconds_);
+  forward(
+      sizeof(double), 500, [&](std::size_t s, std::byte* out) { std::memcpy(out, &f[s], sizeof(double)); },
+      [&](const std::byte* in, std::size_t s) { std::memcpy(&f[s], in, sizeof(double)); });
 }
 
 void Halo::reverse_sums(std::int64_t* v, int components, const ParticleData& p) {
@@ -402,17 +401,23 @@ void gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expecte
     // One rank: copy straight into id order, no message records.
     place(
         p.n_local, [&](std::size_t k) { return p.id[k]; },
-        [&](std::size_t from, std::size_t to) { unpack_particle(pack_particle(p, from), all, to); });
+        [&](std::size_t from, std::size_t to) { p.copy_to<field::kMigrate>(from, all, to); });
     return;
   }
-  std::vector<MoveRecord> mine(p.n_local);
-  for (std::size_t i = 0; i < p.n_local; ++i) mine[i] = pack_particle(p, i);
-  const std::vector<std::byte> bytes = comm.gather(as_bytes_of(mine));
+  std::vector<std::byte> mine(p.n_local * kMoveBytes);
+  for (std::size_t i = 0; i < p.n_local; ++i) p.pack<field::kMigrate>(i, mine.data() + i * kMoveBytes);
+  const std::vector<std::byte> bytes = comm.gather(mine);
   comm.on_root([&] {
-    const std::vector<MoveRecord> recs = records_from<MoveRecord>(bytes);
-    place(
-        recs.size(), [&](std::size_t k) { return recs[k].id; },
-        [&](std::size_t from, std::size_t to) { unpack_particle(recs[from], all, to); });
+    const std::size_t n = record_count(bytes, kMoveBytes);
+    // The id is the first field of the list, so it leads every record.
+    static_assert(std::string_view(ParticleData::fields()[0].name) == "id" &&
+                  (ParticleData::fields()[0].flags & field::kMigrate));
+    auto id_of = [&](std::size_t k) {
+      std::uint32_t id;
+      std::memcpy(&id, bytes.data() + k * kMoveBytes, sizeof id);
+      return id;
+    };
+    place(n, id_of, [&](std::size_t from, std::size_t to) { all.unpack<field::kMigrate>(bytes.data() + from * kMoveBytes, to); });
   });
 }
 

@@ -38,8 +38,14 @@ class Halo {
   // sorted by cell, owned cell c holding [cell_start[c], cell_start[c+1]).
   void build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const std::uint32_t> cell_start);
   const std::vector<std::uint32_t>& ghost_counts() const { return ghost_count_; }
-  // Refreshes positions and velocities of the ghosts of the last build_ghosts (Verlet lists).
+  // Refreshes the fields flagged kRefresh (positions and velocities) of the ghosts of the last
+  // build_ghosts (Verlet lists).
   void update_ghosts(ParticleData& p);
+  // Copies the owners' values of a per-particle quantity (`field[i]` for storage index i, locals and
+  // ghosts; at least p.size() entries) to their ghost copies, along the send lists of the last
+  // build_ghosts: for a quantity computed on the locals between neighbour builds (a local density)
+  // that a later pair pass reads on ghosts too. A no-op when the halo is inactive. Collective.
+  void forward_field(ParticleData& p, std::vector<double>& field);
   // Adds the fixed-point forces accumulated on ghosts (f3: x, y, z per particle, local and ghost) to
   // their owners' entries. Integer sums: the result does not depend on the order of arrival.
   void reverse_forces(std::int64_t* f3, const ParticleData& p) { reverse_sums(f3, 3, p); }
@@ -63,6 +69,10 @@ class Halo {
  private:
   // Sends `out` to the neighbour on side `dir` of axis d and receives from the other side.
   std::vector<std::byte> swap(int d, int dir, int tag_base, std::span<const std::byte> out);
+  // Sends records (of record_bytes, written by pack(storage index, out)) from owners to their ghost
+  // copies along the send lists of the last build_ghosts; unpack(in, storage index) stores them.
+  template <class Pack, class Unpack>
+  void forward(std::size_t record_bytes, int tag_base, Pack&& pack, Unpack&& unpack);
   std::size_t storage_of(std::size_t arrival) const {
     return arrival < n_local_ ? arrival : slot_[arrival - n_local_];
   }

@@ -279,6 +279,31 @@ TEST(Cli, DamagedCheckpointsAreRejected) {
   for (const auto& c : cases) expect_config_error(dir, c);
 }
 
+// A checkpoint of the state format before the particle field list (tag "MESODPD3", written by the
+// program as it was then: tests/cli/data/format3_tiny.mdpd from format3_tiny.toml) is refused with
+// the file and both format numbers named, not misread.
+TEST(Cli, CheckpointOfAnOlderFormatIsRefused) {
+  const fs::path dir = work_dir();
+  const fs::path data = fs::path(mesodpd::test::source_dir()) / "tests" / "cli" / "data";
+  fs::copy_file(data / "format3_tiny.mdpd", dir / "old.mdpd", fs::copy_options::overwrite_existing);
+  fs::copy_file(data / "format3_tiny.toml", dir / "tiny.toml", fs::copy_options::overwrite_existing);
+  expect_config_error(dir, {"format 3 checkpoint", "", "run tiny.toml --out o --steps 4 --restart old.mdpd",
+                            {"old.mdpd", "format 3", "format 4"}});
+  EXPECT_FALSE(fs::exists(dir / "o" / "thermo.csv"));
+}
+
+// A restart with another integrator.dt than the checkpoint's is refused: the stored forces and the
+// noise amplitude belong to the checkpoint's dt. The same dt continues.
+TEST(Cli, RestartWithAnotherTimeStepIsRefused) {
+  const fs::path dir = work_dir();
+  write_text(dir / "run.toml", small_config("[integrator]\ndt = 0.04\n"));
+  write_text(dir / "other_dt.toml", small_config("[integrator]\ndt = 0.03\n"));
+  ASSERT_EQ(mesodpd(dir, "run run.toml --out out --steps 4").code, 0);
+  expect_config_error(dir, {"other dt", "", "run other_dt.toml --out o2 --steps 8 --restart out/checkpoint.mdpd",
+                            {"integrator.dt", "0.03", "0.04", "checkpoint.mdpd"}});
+  EXPECT_EQ(mesodpd(dir, "run run.toml --out out --steps 8 --restart out/checkpoint.mdpd").code, 0);
+}
+
 // With max_velocity = 6.5 this system blows up at step 13 (random start, large initial forces).
 TEST(Cli, BlowUpExitsThreeAndKeepsTheLastCheckpoint) {
   const fs::path dir = work_dir();

@@ -1,0 +1,107 @@
+// Encoding and decoding of the state checkpoint's payload from the particle field list.
+#include "io/state_checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <string>
+
+#include "io/byte_buffer.hpp"
+#include "io/checkpoint_file.hpp"
+
+namespace mesodpd {
+
+namespace {
+
+// "MESODPD" in the high seven bytes and the version as an ASCII digit in the lowest: version 3 is the
+// tag the code before the field list wrote.
+constexpr std::uint64_t kTagStem = 0x4d45534f44504400ull;
+constexpr std::uint64_t tag_of(int version) { return kTagStem | static_cast<std::uint64_t>('0' + version); }
+
+}  // namespace
+
+void write_state_checkpoint(const std::filesystem::path& file, const StateHeader& h, const ParticleData& all,
+                            const std::vector<std::byte>* observer_state) {
+  ByteWriter w;
+  w.put<std::uint64_t>(tag_of(kStateFormatVersion));
+  w.put<std::uint64_t>(h.step);
+  w.put<std::uint64_t>(h.neighbor_builds);
+  w.put<std::uint64_t>(h.seed);
+  w.put<double>(h.dt);
+  w.put<std::uint64_t>(h.n_species);
+  for (double l : h.box) w.put<double>(l);
+  const std::size_t n = all.n_local;
+  w.put<std::uint64_t>(n);
+  std::uint64_t n_fields = 0;
+  for (const FieldInfo& f : ParticleData::fields()) n_fields += (f.flags & field::kCheckpoint) ? 1 : 0;
+  w.put<std::uint64_t>(n_fields);
+  all.for_each_field([&](const FieldInfo& f, const auto& v) {
+    if (!(f.flags & field::kCheckpoint)) return;
+    w.put_string(f.name);
+    w.put<char>(f.kind);
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(f.elem_bytes));
+    w.put_vector(std::span(v.data(), n));
+  });
+  w.put<std::uint8_t>(observer_state ? 1 : 0);
+  if (observer_state) w.put_vector(*observer_state);
+  write_checkpoint_file(file, w.bytes());
+}
+
+StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
+  const std::vector<std::byte> bytes = read_checkpoint_file(file);
+  const std::string where = "checkpoint '" + file.string() + "'";
+  ByteReader r(bytes, where);
+  const auto tag = r.get<std::uint64_t>();
+  if ((tag & ~std::uint64_t{0xff}) != kTagStem)
+    throw ConfigError(fmt::format("{}: not a mesodpd state checkpoint", where));
+  if (tag != tag_of(kStateFormatVersion))
+    throw ConfigError(fmt::format(
+        "{}: state format {} cannot be read by this mesodpd, which reads format {} only; continue that run "
+        "with the mesodpd that wrote it, or start it again",
+        where, static_cast<int>(tag & 0xff) - '0', kStateFormatVersion));
+  StateCheckpoint c;
+  StateHeader& h = c.header;
+  h.step = r.get<std::uint64_t>();
+  h.neighbor_builds = r.get<std::uint64_t>();
+  h.seed = r.get<std::uint64_t>();
+  h.dt = r.get<double>();
+  h.n_species = r.get<std::uint64_t>();
+  for (double& l : h.box) l = r.get<double>();
+  const auto n = r.get<std::uint64_t>();
+  const auto n_fields = r.get<std::uint64_t>();
+  ParticleData& p = c.particles;
+  p.resize(static_cast<std::size_t>(n));
+  p.n_local = static_cast<std::size_t>(n);
+  std::vector<bool> seen(ParticleData::fields().size(), false);
+  for (std::uint64_t k = 0; k < n_fields; ++k) {
+    const std::string name = r.get_string();
+    const char kind = r.get<char>();
+    const auto elem_bytes = r.get<std::uint8_t>();
+    bool found = false;
+    std::size_t index = 0;
+    p.for_each_field([&](const FieldInfo& f, auto& v) {
+      const std::size_t at = index++;
+      if (found || name != f.name || !(f.flags & field::kCheckpoint)) return;
+      found = true;
+      using T = typename std::remove_reference_t<decltype(v)>::value_type;
+      if (kind != f.kind || elem_bytes != f.elem_bytes)
+        throw ConfigError(fmt::format("{}: field '{}' is stored as {}{} but this mesodpd holds it as {}{}", where, name,
+                                      kind, 8 * elem_bytes, f.kind, 8 * f.elem_bytes));
+      if (seen[at]) throw ConfigError(fmt::format("{}: field '{}' is stored twice", where, name));
+      seen[at] = true;
+      std::vector<T> values = r.get_vector<T>();
+      if (values.size() != n)
+        throw ConfigError(fmt::format("{}: field '{}' has {} values for {} particles", where, name, values.size(), n));
+      std::copy(values.begin(), values.end(), v.begin());
+    });
+    if (!found) throw ConfigError(fmt::format("{}: unknown particle field '{}'", where, name));
+  }
+  for (std::size_t k = 0; k < seen.size(); ++k)
+    if ((ParticleData::fields()[k].flags & field::kCheckpoint) && !seen[k])
+      throw ConfigError(fmt::format("{}: particle field '{}' is missing", where, ParticleData::fields()[k].name));
+  if (r.get<std::uint8_t>() != 0) c.observer_state = r.get_vector<std::byte>();
+  r.expect_end();
+  return c;
+}
+
+}  // namespace mesodpd
