@@ -59,10 +59,10 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   if (comm.root()) {
     const auto& g = sim.halo().decomposition().grid;
     fmt::print("mesodpd {}: {} particles, box {} x {} x {}, steps {} -> {}, {} rank(s){}, {} thread(s) per rank ({}), "
-               "output in {}\n",
+               "SIMD {}, output in {}\n",
                MESODPD_VERSION, sim.total_particles(), sim.box().len.x, sim.box().len.y, sim.box().len.z, first,
                sim.final_step(), comm.size(), comm.size() > 1 ? fmt::format(" (grid {}x{}x{})", g[0], g[1], g[2]) : "",
-               nthreads, openmp_wait_description(), out);
+               nthreads, openmp_wait_description(), ForceCompute::simd_target(), out);
     std::fflush(stdout);
   }
   try {

@@ -12,6 +12,7 @@
 
 #include "engine/simulation.hpp"
 #include "parallel/comm.hpp"
+#include "parallel/openmp_wait.hpp"
 
 namespace {
 
@@ -50,6 +51,8 @@ mesodpd::SimulationSpec fluid(std::uint64_t n, double skin, bool verlet) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The same OpenMP wait policy as the mesodpd program (docs/performance.md, "Busy machines").
+  mesodpd::bound_openmp_spin_wait(argv);
   mesodpd::MpiSession mpi(argc, argv);
   const mesodpd::Comm comm = mesodpd::Comm::world();
   CLI::App app{"mesodpd fluid throughput benchmark (under mpirun: strong scaling, or weak with --per-rank)"};
@@ -87,6 +90,8 @@ int main(int argc, char** argv) {
 #endif
   print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
         method == "verlet" ? skin : 0.0);
+  print("# OpenMP wait: {}\n", mesodpd::openmp_wait_description());
+  print("# pair loop SIMD target: {} (chosen at run time; MESODPD_SIMD caps it)\n", mesodpd::ForceCompute::simd_target());
   print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
         "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
   for (std::uint64_t n : sizes)

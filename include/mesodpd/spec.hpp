@@ -22,6 +22,9 @@ enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };
 enum class NeighborMethod { Verlet, Cells };
 enum class DumpFormat { Lammps, Gsd };
+// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD, or the soft cosine
+// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat.
+enum class PairStyle { Dpd, Soft };
 enum class VelocityInit { Maxwell, File, Zero };
 
 struct SpeciesSpec {
@@ -105,6 +108,7 @@ struct SimulationSpec {
   double kT = 1.0;                              // [system] kT
   std::uint64_t seed = 1;                       // [system] seed
   std::vector<SpeciesSpec> species;             // [[species]]
+  PairStyle pair_style = PairStyle::Dpd;        // [pair] style
   PairSection pair_section;                     // [pair] and [[pair.override]] as written
   std::vector<PairSpec> pairs;                  // all n(n+1)/2 pairs, resolved by validate()
   std::string data_file;                        // [init] lammps_data: read particles from this file

@@ -180,6 +180,18 @@ void validate_pair_params(const std::string& prefix, const PairParams& p) {
 void validate_pairs(SimulationSpec& spec) {
   const PairSection& sec = spec.pair_section;
   validate_pair_params("pair", sec.params);
+  if (spec.pair_style == PairStyle::Soft) {
+    // The soft law reads a (its amplitude A) and rc only: a thermostat key would be silently ignored.
+    auto refuse_thermostat_keys = [](const std::string& prefix, const PairParams& p) {
+      for (const auto& [name, value] : {std::pair{"gamma", p.gamma}, {"sigma", p.sigma}, {"rd", p.rd}, {"s", p.s}})
+        if (value)
+          fail(prefix + "." + name, show(*value),
+               "not used with pair.style = \"soft\" (a conservative law without dissipative or random force)");
+    };
+    refuse_thermostat_keys("pair", sec.params);
+    for (std::size_t k = 0; k < sec.overrides.size(); ++k)
+      refuse_thermostat_keys(fmt::format("pair.override[{}]", k), sec.overrides[k].params);
+  }
   if (sec.mixing == Mixing::Geometric && sec.params.a)
     fail("pair.a", show(*sec.params.a), "not used with pair.mixing = \"geometric\" (a_ij = sqrt(a_i a_j) from species[].a)");
 

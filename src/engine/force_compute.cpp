@@ -1,20 +1,37 @@
-// OpenMP pair loop. Candidate pairs are first filtered by distance (cheap, vectorised), collected in
-// a per-thread batch, then evaluated in a few array passes — geometry, noise, the force law of
-// physics/dpd_pair.hpp, fixed-point conversion — and finally scattered into per-thread integer buffers.
+// The shared OpenMP pair loop, compiled once per SIMD instruction set with Google Highway and chosen at
+// run time. Candidate pairs are filtered by distance (vectorised), collected in a per-thread batch, then
+// evaluated in array passes (geometry, noise, the force law or density kernel, fixed-point conversion)
+// and scattered into per-thread integer buffers. The traversal is written once; what is evaluated is a
+// template parameter: a force law of engine/pair_laws.hpp or a density kernel.
 #include "engine/force_compute.hpp"
 
-#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "engine/fixed_point.hpp"
-#include "physics/dpd_pair.hpp"
+#include "engine/pair_batch.hpp"
 
+// Targets compiled: the portable fallback, SSE4, AVX2 and AVX-512 on x86 (and NEON/SVE on ARM), less
+// SSSE3, which adds compile time and no user.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS HWY_SSSE3
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "engine/force_compute.cpp"
+#include <hwy/foreach_target.h>  // re-includes this file once per target
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
 namespace mesodpd {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
 
 #ifdef MESODPD_SINGLE_PRECISION
 constexpr double kFilterMargin = 1e-4;  // float rounding of the filter's displacement
@@ -22,104 +39,152 @@ constexpr double kFilterMargin = 1e-4;  // float rounding of the filter's displa
 constexpr double kFilterMargin = 1e-10;
 #endif
 
-// Pairs (i, j) waiting for evaluation, with the arrays of the evaluation passes.
-struct PairBatch {
-  static constexpr std::size_t kCapacity = 1024;
-  std::size_t m = 0;
-  alignas(64) std::uint32_t i[kCapacity + 16];  // + one vector: broadcast stores may run past m
-  // Copies of particle i's position, velocity and id for every pair, written a vector at a time when
-  // the pairs of one i are appended, so the passes read them contiguously instead of gathering.
-  alignas(64) double ix[kCapacity + 8], iy[kCapacity + 8], iz[kCapacity + 8];
-  alignas(64) double ivx[kCapacity + 8], ivy[kCapacity + 8], ivz[kCapacity + 8];
-  alignas(64) std::uint32_t iid[kCapacity + 16];
-  alignas(64) std::uint32_t j[kCapacity + 16];  // + one vector: compressed stores may run past m
-  alignas(64) PairReal dx[kCapacity];
-  alignas(64) PairReal dy[kCapacity];
-  alignas(64) PairReal dz[kCapacity];
-  alignas(64) PairReal r[kCapacity];
-  alignas(64) PairReal inv_r[kCapacity];
-  alignas(64) PairReal rv[kCapacity];
-  alignas(64) PairReal xi[kCapacity];
-  alignas(64) std::int64_t qx[kCapacity];
-  alignas(64) std::int64_t qy[kCapacity];
-  alignas(64) std::int64_t qz[kCapacity];
-  alignas(64) PairReal r2[kCapacity / 2];  // distance filter scratch for one chunk of candidates
-  std::vector<PairReal> cand_x, cand_y, cand_z;  // candidates of the current cell, nearest-image coordinates
-  std::vector<std::uint32_t> cand_j;
-};
-
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-// Stores 8 doubles as the candidate arrays' type.
-inline void store8(double* dst, __m512d v) { _mm512_storeu_pd(dst, v); }
-inline void store8(float* dst, __m512d v) { _mm256_storeu_ps(dst, _mm512_maskz_cvtpd_ps(0xFF, v)); }
+// Masked loads that never touch memory in masked-off lanes exist on AVX2 and AVX-512; elsewhere a
+// partial vector at the end of an array is read by a scalar loop instead.
+#if HWY_TARGET <= HWY_AVX2
+constexpr bool kFaultFreeMaskedLoad = true;
+#else
+constexpr bool kFaultFreeMaskedLoad = false;
 #endif
 
-ForceCompute::ForceCompute(PairTable table, NoiseSettings noise) : table_(std::move(table)), noise_(noise) {
-  weight_kind_ = table_.params.empty() ? WeightKind::General : weight_kind_of(table_.params[0].s);
-  for (const DpdPairParams& q : table_.params) {
-    if (weight_kind_of(q.s) != weight_kind_) weight_kind_ = WeightKind::General;
-    params_real_.push_back(q.as<PairReal>());
+// What one kind of pair computation evaluates, on top of the shared traversal:
+//   kComponents   integers accumulated per particle (3 for a force, 1 for a density)
+//   kSymmetric    the pair adds the same value to i and j (density) instead of opposite ones (force)
+//   kVelocity, kNoise, kDirection   which per-pair inputs the geometry and noise passes compute
+//   evaluate(b, m, local)  fills b.qx (.qy, .qz) for batch entries [0, m) and adds to the sums.
+
+// A force law `Eval` of law `Law` (physics/*.hpp).
+template <class Law, class Eval, bool kSums>
+struct ForcePass {
+  static constexpr int kComponents = 3;
+  static constexpr bool kSymmetric = false;
+  static constexpr bool kVelocity = Law::kVelocity;
+  static constexpr bool kNoise = Law::kNoise;
+  static constexpr bool kDirection = true;
+  using Params = typename Law::template Params<PairReal>;
+
+  Eval eval;
+  std::vector<Params> params;  // the table in the pair arithmetic type
+  int ns = 1;
+  PairReal inv_sqrt_dt = 1;
+  const std::int32_t* species = nullptr;
+  const double* rho = nullptr;
+
+  void evaluate(PairBatch& b, std::size_t m, std::int64_t* local) const {
+    // One species pair: its parameters are loop constants (no per-pair lookup, which would make the
+    // vectorised loop gather them).
+    auto run = [&]<bool kOne>() {
+      const Params p0 = params[0];
+      const Params* tab = params.data();
+      const std::int32_t* sp = species;
+      for (std::size_t k = 0; k < m; ++k) {
+        const Params& pp = kOne ? p0 : tab[sp[b.i[k]] * ns + sp[b.j[k]]];
+        PairInput<PairReal> in;
+        in.r = b.r[k];
+        if constexpr (kVelocity) in.rv = b.rv[k];
+        if constexpr (kNoise) in.xi = b.xi[k];
+        in.inv_sqrt_dt = inv_sqrt_dt;
+        if constexpr (Law::kDensity) {
+          in.rho_i = static_cast<PairReal>(rho[b.i[k]]);
+          in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
+        }
+        const PairForceT<PairReal> f = eval(pp, in);
+        const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
+        const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
+        b.qx[k] = to_fixed(fx, kForceScale);
+        b.qy[k] = to_fixed(fy, kForceScale);
+        b.qz[k] = to_fixed(fz, kForceScale);
+        if constexpr (kSums) {
+          const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
+          local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
+          local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
+          local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
+          local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
+          local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
+          local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
+          local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
+          local[7] += to_fixed(f.energy, kVirialScale);
+          local[8] += in_range ? 1 : 0;
+        }
+      }
+    };
+    if (ns == 1)
+      run.template operator()<true>();
+    else
+      run.template operator()<false>();
   }
-}
-ForceCompute::~ForceCompute() = default;
-ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
-ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
+};
 
-void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
-                           double dt, bool with_sums, PairSums& sums, Halo* halo) {
-  auto dispatch = [&]<bool kSums>() {
-    switch (weight_kind_) {
-      case WeightKind::Two: return compute_impl<kSums, WeightKind::Two>(p, box, list, step, dt, sums, halo);
-      case WeightKind::One: return compute_impl<kSums, WeightKind::One>(p, box, list, step, dt, sums, halo);
-      case WeightKind::Half: return compute_impl<kSums, WeightKind::Half>(p, box, list, step, dt, sums, halo);
-      case WeightKind::Quarter: return compute_impl<kSums, WeightKind::Quarter>(p, box, list, step, dt, sums, halo);
-      case WeightKind::General: return compute_impl<kSums, WeightKind::General>(p, box, list, step, dt, sums, halo);
+// A density kernel (physics/density_kernel.hpp): rho_i += w(r_ij), rho_j += w(r_ij).
+template <class Kernel>
+struct DensityPass {
+  static constexpr int kComponents = 1;
+  static constexpr bool kSymmetric = true;
+  static constexpr bool kVelocity = false;
+  static constexpr bool kNoise = false;
+  static constexpr bool kDirection = false;
+  using Params = DensityParamsT<PairReal>;
+
+  Kernel kernel;
+  std::vector<Params> params;
+  int ns = 1;
+  const std::int32_t* species = nullptr;
+
+  void evaluate(PairBatch& b, std::size_t m, std::int64_t*) const {
+    const Params* tab = params.data();
+    const std::int32_t* sp = species;
+    if (ns == 1) {
+      const Params p0 = params[0];
+      for (std::size_t k = 0; k < m; ++k) b.qx[k] = to_fixed(kernel(p0, b.r[k]), kForceScale);
+    } else {
+      for (std::size_t k = 0; k < m; ++k)
+        b.qx[k] = to_fixed(kernel(tab[sp[b.i[k]] * ns + sp[b.j[k]]], b.r[k]), kForceScale);
     }
-  };
-  if (with_sums)
-    dispatch.template operator()<true>();
-  else
-    dispatch.template operator()<false>();
-}
+  }
+};
 
-template <bool kSums, WeightKind W>
-void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
-                                double dt, PairSums& sums, Halo* halo) {
+// The shared loop: traverses every pair within the largest cutoff once (cell pairs or a half Verlet
+// list), evaluates `pass` on batches, and leaves the per-particle integer totals (summed over threads)
+// in job.out / p.f (no ghosts) or job.ws->fixed (with ghosts; the caller returns ghost totals first).
+template <class Pass, bool kSums>
+void run_loop(PairJob& job, const Pass& pass, double cutoff) {
+  constexpr int C = Pass::kComponents;
+  ParticleData& p = *job.p;
+  const Box& box = *job.box;
+  const NeighborList& list = *job.list;
+  PairWorkspace& ws = *job.ws;
   const std::size_t n = p.n_local;
   const std::size_t ntot = p.size();  // local particles, then ghosts
   const bool ghosts = p.n_ghost > 0;
   if (ghosts) {
-    if (3 * ntot > fixed_.capacity()) fixed_.reserve(3 * ntot + 3 * ntot / 8);  // not the usual doubling
-    fixed_.resize(3 * ntot);
+    if (C * ntot > ws.fixed.capacity()) ws.fixed.reserve(C * ntot + C * ntot / 8);  // not the usual doubling
+    ws.fixed.resize(C * ntot);
   }
   const int nthreads = omp_get_max_threads();
-  buffers_.resize(static_cast<std::size_t>(nthreads));
-  while (batches_.size() < static_cast<std::size_t>(nthreads)) batches_.push_back(std::make_unique<PairBatch>());
+  ws.buffers.resize(static_cast<std::size_t>(nthreads));
+  while (ws.batches.size() < static_cast<std::size_t>(nthreads)) ws.batches.push_back(std::make_unique<PairBatch>());
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;  // shifts of wrapped cell runs
   // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
   const double ilx = box.image_len(0), ily = box.image_len(1), ilz = box.image_len(2);
   const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
-  const int ns = table_.n_species;
-  const DpdPairParamsT<PairReal>* params = params_real_.data();
-  const PairReal inv_sqrt_dt_r = static_cast<PairReal>(1.0 / std::sqrt(dt));
-  const std::uint64_t seed = noise_.seed;
-  const NoiseKind kind = noise_.kind;
+  const std::uint64_t seed = job.noise.seed;
+  const NoiseKind kind = job.noise.kind;
+  const std::uint64_t step = job.step;
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
-  const PairReal filter2 = static_cast<PairReal>(table_.max_cutoff * table_.max_cutoff * (1.0 + kFilterMargin));
-
-  // Integer sums: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
-  std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
+  std::int64_t* total = job.totals;
 
 #pragma omp parallel num_threads(nthreads)
   {
     const int t = omp_get_thread_num();
-    std::vector<std::int64_t>& bufv = buffers_[static_cast<std::size_t>(t)];
+    std::vector<std::int64_t>& bufv = ws.buffers[static_cast<std::size_t>(t)];
     // Buffers are left all zero by the reduction below, which clears each entry as it reads it (the
     // cache line is already there), so only entries added by growth need zeroing here.
-    if (bufv.size() != 3 * ntot) bufv.resize(3 * ntot, 0);
+    // A buffer only grows: entries past C * ntot stay zero too (passes with 1 and 3 components alternate).
+    if (bufv.size() < C * ntot) bufv.resize(C * ntot, 0);
     std::int64_t* buf = bufv.data();
-    PairBatch& b = *batches_[static_cast<std::size_t>(t)];
+    PairBatch& b = *ws.batches[static_cast<std::size_t>(t)];
     b.m = 0;
     std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     const double* __restrict x = p.x.data();
@@ -128,7 +193,6 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
     const double* __restrict vx = p.vx.data();
     const double* __restrict vy = p.vy.data();
     const double* __restrict vz = p.vz.data();
-    const std::int32_t* __restrict sp = p.species.data();
     const std::uint32_t* __restrict id = p.id.data();
 
     // Evaluate and scatter every pair in the batch. Each pass is a simple loop over arrays.
@@ -141,101 +205,97 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
         const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ily, hly));
         const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], ilz, hlz));
         const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
-        b.dx[k] = dx;
-        b.dy[k] = dy;
-        b.dz[k] = dz;
         b.r[k] = r;
-        b.inv_r[k] = inv_r;
-        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
-                   dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
-                  inv_r;
+        if constexpr (Pass::kDirection) {
+          const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
+          b.dx[k] = dx;
+          b.dy[k] = dy;
+          b.dz[k] = dz;
+          b.inv_r[k] = inv_r;
+          if constexpr (Pass::kVelocity)
+            b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
+                       dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
+                      inv_r;
+        }
       }
       // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
-      if (kind == NoiseKind::Uniform) {
-        for (std::size_t k = 0; k < m; ++k)
-          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
-      } else {
-        for (std::size_t k = 0; k < m; ++k)
-          b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
-      }
-      // Pass 3: the force law and the fixed-point conversion. One species pair: its parameters are
-      // loop constants (no per-pair lookup, which would make the vectorised loop gather them).
-      auto pass3 = [&]<bool kOne>() {
-        const DpdPairParamsT<PairReal> p0 = params[0];
-        for (std::size_t k = 0; k < m; ++k) {
-          const DpdPairParamsT<PairReal>& pp = kOne ? p0 : params[sp[b.i[k]] * ns + sp[b.j[k]]];
-          const DpdPairForceT<PairReal> f = dpd_pair_force<W>(pp, b.r[k], b.rv[k], b.xi[k], inv_sqrt_dt_r);
-          const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
-          const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
-          b.qx[k] = to_fixed(fx, kForceScale);
-          b.qy[k] = to_fixed(fy, kForceScale);
-          b.qz[k] = to_fixed(fz, kForceScale);
-          if constexpr (kSums) {
-            const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
-            local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
-            local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
-            local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
-            local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
-            local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
-            local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
-            local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
-            local[7] += to_fixed(f.energy, kVirialScale);
-            local[8] += in_range ? 1 : 0;
-          }
+      if constexpr (Pass::kNoise) {
+        if (kind == NoiseKind::Uniform) {
+          for (std::size_t k = 0; k < m; ++k)
+            b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
+        } else {
+          for (std::size_t k = 0; k < m; ++k)
+            b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
         }
-      };
-      if (ns == 1)
-        pass3.template operator()<true>();
-      else
-        pass3.template operator()<false>();
+      }
+      // Pass 3: the law or kernel and the fixed-point conversion.
+      pass.evaluate(b, m, local);
       // Pass 4: scatter (integer adds: the order does not matter).
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t i = b.i[k], j = b.j[k];
-        buf[3 * i] += b.qx[k];
-        buf[3 * i + 1] += b.qy[k];
-        buf[3 * i + 2] += b.qz[k];
-        buf[3 * j] -= b.qx[k];
-        buf[3 * j + 1] -= b.qy[k];
-        buf[3 * j + 2] -= b.qz[k];
+        if constexpr (C == 3) {
+          buf[3 * i] += b.qx[k];
+          buf[3 * i + 1] += b.qy[k];
+          buf[3 * i + 2] += b.qz[k];
+          buf[3 * j] -= b.qx[k];
+          buf[3 * j + 1] -= b.qy[k];
+          buf[3 * j + 2] -= b.qz[k];
+        } else {
+          buf[i] += b.qx[k];
+          buf[j] += Pass::kSymmetric ? b.qx[k] : -b.qx[k];
+        }
       }
       b.m = 0;
     };
+
+    const hn::ScalableTag<double> dd;                 // particle coordinates
+    const hn::Rebind<std::uint32_t, decltype(dd)> du;  // indices, one per coordinate lane
+    const std::size_t nd = hn::Lanes(dd);
+
     // Marks batch entries [m0, m) as pairs of particle i (see PairBatch::ix).
     auto spread_i = [&](std::uint32_t i, std::size_t m0, std::size_t m) {
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-      const __m512d px = _mm512_set1_pd(x[i]), py = _mm512_set1_pd(y[i]), pz = _mm512_set1_pd(z[i]);
-      const __m512d pvx = _mm512_set1_pd(vx[i]), pvy = _mm512_set1_pd(vy[i]), pvz = _mm512_set1_pd(vz[i]);
-      const __m256i pi = _mm256_set1_epi32(static_cast<int>(i)), pid = _mm256_set1_epi32(static_cast<int>(id[i]));
-      for (std::size_t k = m0; k < m; k += 8) {
-        _mm512_storeu_pd(b.ix + k, px);
-        _mm512_storeu_pd(b.iy + k, py);
-        _mm512_storeu_pd(b.iz + k, pz);
-        _mm512_storeu_pd(b.ivx + k, pvx);
-        _mm512_storeu_pd(b.ivy + k, pvy);
-        _mm512_storeu_pd(b.ivz + k, pvz);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.i + k), pi);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.iid + k), pid);
+      const auto px = hn::Set(dd, x[i]), py = hn::Set(dd, y[i]), pz = hn::Set(dd, z[i]);
+      const auto pvx = hn::Set(dd, vx[i]), pvy = hn::Set(dd, vy[i]), pvz = hn::Set(dd, vz[i]);
+      const auto pi = hn::Set(du, i), pid = hn::Set(du, id[i]);
+      for (std::size_t k = m0; k < m; k += nd) {
+        hn::StoreU(px, dd, b.ix + k);
+        hn::StoreU(py, dd, b.iy + k);
+        hn::StoreU(pz, dd, b.iz + k);
+        if constexpr (Pass::kVelocity) {
+          hn::StoreU(pvx, dd, b.ivx + k);
+          hn::StoreU(pvy, dd, b.ivy + k);
+          hn::StoreU(pvz, dd, b.ivz + k);
+        }
+        hn::StoreU(pi, du, b.i + k);
+        hn::StoreU(pid, du, b.iid + k);
       }
-#else
-      for (std::size_t k = m0; k < m; ++k) {
-        b.ix[k] = x[i];
-        b.iy[k] = y[i];
-        b.iz[k] = z[i];
-        b.ivx[k] = vx[i];
-        b.ivy[k] = vy[i];
-        b.ivz[k] = vz[i];
-        b.i[k] = i;
-        b.iid[k] = id[i];
-      }
-#endif
     };
+
     // Distance filter of particle i against candidates [k0, k1) of the cell's candidate arrays, which
-    // hold nearest-image coordinates. Survivors are appended to the batch without branches.
+    // hold nearest-image coordinates relative to (ox, oy, oz). Survivors are appended to the batch
+    // without branches: a vector of candidates per step, squared distance, compare, and the survivors'
+    // indices packed by a compressing store. The last, partial vector is masked. The filter only
+    // selects (a superset of the pairs in range, see filter2), so its rounding never reaches the result.
+    const hn::ScalableTag<PairReal> dr;
+    const hn::Rebind<std::uint32_t, decltype(dr)> dru;
+    const std::size_t nr_lanes = hn::Lanes(dr);
+    // The keep mask of a vector of coordinates as a mask of the 32-bit indices of the same lanes
+    // (lane sizes differ in double precision, so it goes through its bits).
+    auto index_mask = [&](auto keep) {
+      if constexpr (sizeof(PairReal) == sizeof(std::uint32_t)) {
+        return hn::RebindMask(dru, keep);
+      } else {
+        alignas(8) std::uint8_t bits[8] = {};
+        hn::StoreMaskBits(dr, keep, bits);
+        return hn::LoadMaskBits(dru, bits);
+      }
+    };
     auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1, double ox, double oy, double oz) {
       constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
-      const PairReal xi = static_cast<PairReal>(x[i] - ox), yi = static_cast<PairReal>(y[i] - oy),
-                     zi = static_cast<PairReal>(z[i] - oz);
+      const auto lim = hn::Set(dr, filter2);
+      const auto xi = hn::Set(dr, static_cast<PairReal>(x[i] - ox));
+      const auto yi = hn::Set(dr, static_cast<PairReal>(y[i] - oy));
+      const auto zi = hn::Set(dr, static_cast<PairReal>(z[i] - oz));
       for (std::size_t a = k0; a < k1; a += kChunk) {
         const std::size_t cnt = std::min(k1, a + kChunk) - a;
         const PairReal* __restrict cx = b.cand_x.data() + a;
@@ -245,51 +305,16 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
         if (b.m + cnt > PairBatch::kCapacity) flush();
         const std::size_t m0 = b.m;
         std::size_t m = m0;
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-        // One vector of candidates per step: squared distance, compare, and the survivors' indices packed
-        // with an in-register compress and a plain store (the memory form of vpcompress is slow on some
-        // cores). The last, partial vector is masked, so there is no scalar tail. The filter only selects
-        // (a superset of the pairs in range, see filter2), so its rounding may differ from pass 1's.
-        if constexpr (std::is_same_v<PairReal, double>) {
-          const __m512d lim = _mm512_set1_pd(filter2);
-          const __m512d vx = _mm512_set1_pd(xi), vy = _mm512_set1_pd(yi), vz = _mm512_set1_pd(zi);
-          for (std::size_t k = 0; k < cnt; k += 8) {
-            const __mmask8 valid = cnt - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (cnt - k)) - 1u);
-            const __m512d dx = _mm512_sub_pd(vx, _mm512_maskz_loadu_pd(valid, cx + k));
-            const __m512d dy = _mm512_sub_pd(vy, _mm512_maskz_loadu_pd(valid, cy + k));
-            const __m512d dz = _mm512_sub_pd(vz, _mm512_maskz_loadu_pd(valid, cz + k));
-            const __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-            const __mmask8 keep = _mm512_mask_cmp_pd_mask(valid, r2, lim, _CMP_LT_OQ);
-            const __m256i js = _mm256_maskz_loadu_epi32(valid, cj + k);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.j + m), _mm256_maskz_compress_epi32(keep, js));
-            m += static_cast<std::size_t>(__builtin_popcount(keep));
-          }
-        } else {
-          const __m512 lim = _mm512_set1_ps(filter2);
-          const __m512 vx = _mm512_set1_ps(xi), vy = _mm512_set1_ps(yi), vz = _mm512_set1_ps(zi);
-          for (std::size_t k = 0; k < cnt; k += 16) {
-            const __mmask16 valid = cnt - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (cnt - k)) - 1u);
-            const __m512 dx = _mm512_sub_ps(vx, _mm512_maskz_loadu_ps(valid, cx + k));
-            const __m512 dy = _mm512_sub_ps(vy, _mm512_maskz_loadu_ps(valid, cy + k));
-            const __m512 dz = _mm512_sub_ps(vz, _mm512_maskz_loadu_ps(valid, cz + k));
-            const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
-            const __mmask16 keep = _mm512_mask_cmp_ps_mask(valid, r2, lim, _CMP_LT_OQ);
-            const __m512i js = _mm512_maskz_loadu_epi32(valid, cj + k);
-            _mm512_storeu_si512(b.j + m, _mm512_maskz_compress_epi32(keep, js));
-            m += static_cast<std::size_t>(__builtin_popcount(keep));
-          }
+        // The candidate arrays carry a vector of slack, so whole-vector loads stay inside them.
+        for (std::size_t k = 0; k < cnt; k += nr_lanes) {
+          const auto valid = hn::FirstN(dr, cnt - k);
+          const auto dx = hn::Sub(xi, hn::LoadU(dr, cx + k));
+          const auto dy = hn::Sub(yi, hn::LoadU(dr, cy + k));
+          const auto dz = hn::Sub(zi, hn::LoadU(dr, cz + k));
+          const auto r2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
+          const auto keep = hn::And(valid, hn::Lt(r2, lim));
+          m += hn::CompressStore(hn::LoadU(dru, cj + k), index_mask(keep), dru, b.j + m);
         }
-#else
-        PairReal* __restrict r2 = b.r2;
-        for (std::size_t k = 0; k < cnt; ++k) {
-          const PairReal dx = xi - cx[k], dy = yi - cy[k], dz = zi - cz[k];
-          r2[k] = dx * dx + dy * dy + dz * dz;
-        }
-        for (std::size_t k = 0; k < cnt; ++k) {
-          b.j[m] = cj[k];
-          m += r2[k] < filter2 ? 1 : 0;
-        }
-#endif
         spread_i(i, m0, m);
         b.m = m;
       }
@@ -302,18 +327,27 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
       const CellGrid& grid = list.grid();
       const std::uint32_t* start = list.cell_start().data();
       const std::size_t ncells = grid.num_owned_cells();  // ghost cells are only partners
+      // Stores a vector of coordinates in the candidate arrays' type.
+      auto store_candidates = [&](auto v, PairReal* dst) {
+        if constexpr (std::is_same_v<PairReal, double>) {
+          hn::StoreU(v, dd, dst);
+        } else {
+          const hn::Rebind<PairReal, decltype(dd)> dc;
+          hn::StoreU(hn::DemoteTo(dc, v), dc, dst);
+        }
+      };
 #pragma omp for schedule(static)
       for (std::size_t c = 0; c < ncells; ++c) {
         if (start[c] == start[c + 1]) continue;
         CellRun runs[CellGrid::kMaxHalfRuns];
         const int nr = grid.half_runs(static_cast<int>(c), runs);
-        std::size_t total = 0;
-        for (int r = 0; r < nr; ++r) total += start[runs[r].last + 1] - start[runs[r].first];
-        if (b.cand_x.size() < total + 8) {  // + one vector of slack for the vector stores
-          b.cand_x.resize(2 * total + 8);
-          b.cand_y.resize(2 * total + 8);
-          b.cand_z.resize(2 * total + 8);
-          b.cand_j.resize(2 * total + 8);
+        std::size_t total_c = 0;
+        for (int r = 0; r < nr; ++r) total_c += start[runs[r].last + 1] - start[runs[r].first];
+        if (b.cand_x.size() < total_c + PairBatch::kSlack) {  // slack for whole-vector loads and stores
+          b.cand_x.resize(2 * total_c + PairBatch::kSlack);
+          b.cand_y.resize(2 * total_c + PairBatch::kSlack);
+          b.cand_z.resize(2 * total_c + PairBatch::kSlack);
+          b.cand_j.resize(2 * total_c + PairBatch::kSlack);
         }
         // Candidate coordinates are taken relative to a particle of the cell, so that they are small
         // numbers whose float rounding (single-precision build) stays far below the filter's margin
@@ -324,30 +358,31 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
           const CellRun& e = runs[r];
           const double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
           const std::uint32_t j0 = start[e.first], j1 = start[e.last + 1];
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-          // A vector at a time: masked loads of the (short) run, plain stores into the slack-padded arrays.
-          const __m512d vsx = _mm512_set1_pd(sx), vsy = _mm512_set1_pd(sy), vsz = _mm512_set1_pd(sz);
-          const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-          for (std::uint32_t j = j0; j < j1; j += 8, mc += 8) {
-            const __mmask8 valid = j1 - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (j1 - j)) - 1u);
-            const __m512d cx = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, x + j), vsx);
-            const __m512d cy = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, y + j), vsy);
-            const __m512d cz = _mm512_add_pd(_mm512_maskz_loadu_pd(valid, z + j), vsz);
-            store8(b.cand_x.data() + mc, cx);
-            store8(b.cand_y.data() + mc, cy);
-            store8(b.cand_z.data() + mc, cz);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(b.cand_j.data() + mc),
-                                _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), iota));
+          const auto vsx = hn::Set(dd, sx), vsy = hn::Set(dd, sy), vsz = hn::Set(dd, sz);
+          std::uint32_t j = j0;
+          // A vector at a time into the slack-padded arrays; the (short) run's last partial vector with
+          // a masked load where loads cannot fault, by a scalar loop elsewhere.
+          for (; j + nd <= j1 || (kFaultFreeMaskedLoad && j < j1); j += static_cast<std::uint32_t>(nd)) {
+            const auto valid = hn::FirstN(dd, j1 - j);
+            // (hwy's MaskedLoad wants aligned memory where it is not a fault-free instruction.)
+            auto load = [&](const double* src) {
+              if constexpr (kFaultFreeMaskedLoad)
+                return hn::MaskedLoad(valid, dd, src);
+              else
+                return hn::LoadU(dd, src);
+            };
+            store_candidates(hn::Add(load(x + j), vsx), b.cand_x.data() + mc);
+            store_candidates(hn::Add(load(y + j), vsy), b.cand_y.data() + mc);
+            store_candidates(hn::Add(load(z + j), vsz), b.cand_z.data() + mc);
+            hn::StoreU(hn::Iota(du, j), du, b.cand_j.data() + mc);
+            mc += std::min<std::size_t>(nd, j1 - j);
           }
-          mc -= (8 - (j1 - j0) % 8) % 8;  // back to the end of the run
-#else
-          for (std::uint32_t j = j0; j < j1; ++j, ++mc) {
+          for (; j < j1; ++j, ++mc) {
             b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
             b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
             b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
             b.cand_j[mc] = j;
           }
-#endif
         }
         for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc, ox, oy, oz);
       }
@@ -360,7 +395,7 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
           if (b.m == PairBatch::kCapacity) flush();
           const std::size_t m0 = b.m;
           const std::size_t take = std::min<std::size_t>(off[i + 1] - k, PairBatch::kCapacity - m0);
-          for (std::size_t t = 0; t < take; ++t) b.j[m0 + t] = nbr[k + t];
+          for (std::size_t q = 0; q < take; ++q) b.j[m0 + q] = nbr[k + q];
           k += static_cast<std::uint32_t>(take);
           b.m = m0 + take;
           spread_i(static_cast<std::uint32_t>(i), m0, b.m);
@@ -375,52 +410,205 @@ void ForceCompute::compute_impl(ParticleData& p, const Box& box, const NeighborL
 #pragma omp barrier
     // Reduce the per-thread buffers; integer addition makes the result thread-count independent.
     if (!ghosts) {
+      // Straight into the outputs: forces, or the density array.
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
-        std::int64_t sx = 0, sy = 0, sz = 0;
+        std::int64_t s[C] = {};
         for (int u = 0; u < nthreads; ++u) {
-          std::int64_t* bu = buffers_[static_cast<std::size_t>(u)].data();
-          sx += bu[3 * i];
-          sy += bu[3 * i + 1];
-          sz += bu[3 * i + 2];
-          bu[3 * i] = bu[3 * i + 1] = bu[3 * i + 2] = 0;
+          std::int64_t* bu = ws.buffers[static_cast<std::size_t>(u)].data();
+          for (int q = 0; q < C; ++q) {
+            s[q] += bu[C * i + q];
+            bu[C * i + q] = 0;
+          }
         }
-        p.fx[i] = static_cast<double>(sx) * kForceUnscale;
-        p.fy[i] = static_cast<double>(sy) * kForceUnscale;
-        p.fz[i] = static_cast<double>(sz) * kForceUnscale;
+        if constexpr (C == 3) {
+          p.fx[i] = static_cast<double>(s[0]) * kForceUnscale;
+          p.fy[i] = static_cast<double>(s[1]) * kForceUnscale;
+          p.fz[i] = static_cast<double>(s[2]) * kForceUnscale;
+        } else {
+          job.out[i] = static_cast<double>(s[0]) * kForceUnscale;
+        }
       }
     } else {
       // With ghosts, the integer totals of ghosts go back to their owners before the conversion.
 #pragma omp for schedule(static)
-      for (std::size_t k = 0; k < 3 * ntot; ++k) {
+      for (std::size_t k = 0; k < C * ntot; ++k) {
         std::int64_t s = 0;
         for (int u = 0; u < nthreads; ++u) {
-          s += buffers_[static_cast<std::size_t>(u)][k];
-          buffers_[static_cast<std::size_t>(u)][k] = 0;
+          s += ws.buffers[static_cast<std::size_t>(u)][k];
+          ws.buffers[static_cast<std::size_t>(u)][k] = 0;
         }
-        fixed_[k] = s;
+        ws.fixed[k] = s;
       }
     }
   }
-  if (ghosts) {
-    if (halo != nullptr) halo->reverse_forces(fixed_.data(), p);
+}
+
+template <class Pass>
+void run_pass(PairJob& job, const Pass& pass, double cutoff) {
+  if (job.with_sums)
+    run_loop<Pass, true>(job, pass, cutoff);
+  else
+    run_loop<Pass, false>(job, pass, cutoff);
+}
+
+// Converts a double parameter table to the pair arithmetic type.
+template <class Params, class Table>
+std::vector<Params> converted(const Table& table) {
+  std::vector<Params> out;
+  out.reserve(table.params.size());
+  for (const auto& q : table.params) out.push_back(q.template as<PairReal>());
+  return out;
+}
+
+// Entry point of this target: one pair computation, dispatched over the compile-time list of laws.
+void run_pair_job(PairJob& job) {
+  if (job.laws != nullptr) {
+    std::visit(
+        [&](const auto& lt) {
+          using Law = typename std::decay_t<decltype(lt)>::LawType;
+          Law::with_evaluator(lt.table.params, [&](auto eval) {
+            auto run = [&]<bool kSums>() {
+              ForcePass<Law, decltype(eval), kSums> pass;
+              pass.eval = eval;
+              pass.params = converted<typename decltype(pass)::Params>(lt.table);
+              pass.ns = lt.table.n_species;
+              pass.inv_sqrt_dt = static_cast<PairReal>(1.0 / std::sqrt(job.dt));
+              pass.species = job.p->species.data();
+              pass.rho = job.rho;
+              run_loop<decltype(pass), kSums>(job, pass, lt.table.max_cutoff);
+            };
+            if (job.with_sums)
+              run.template operator()<true>();
+            else
+              run.template operator()<false>();
+          });
+        },
+        *job.laws);
+    return;
+  }
+  const DensitySettings& ds = *job.density;
+  auto run = [&](auto kernel) {
+    DensityPass<decltype(kernel)> pass;
+    pass.kernel = kernel;
+    pass.params = converted<DensityParamsT<PairReal>>(ds.table);
+    pass.ns = ds.table.n_species;
+    pass.species = job.p->species.data();
+    run_pass(job, pass, ds.table.max_cutoff);
+  };
+  switch (ds.kernel) {
+    case DensityKernelKind::Warren: return run(WarrenDensityKernel{});
+    case DensityKernelKind::Lucy: return run(LucyDensityKernel{});
+  }
+}
+
+// The target this copy was compiled for (hwy's bit for it).
+std::int64_t compiled_target() { return HWY_TARGET; }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace mesodpd
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace mesodpd {
+
+HWY_EXPORT(run_pair_job);
+HWY_EXPORT(compiled_target);
+
+namespace {
+// Applies MESODPD_SIMD (a cap on the instruction set) once, before the first dispatch.
+void apply_simd_cap() {
+  static const bool once = [] {
+    const char* cap = std::getenv("MESODPD_SIMD");
+    if (cap == nullptr) return true;
+    const std::string c(cap);
+    std::int64_t disable = 0;
+    if (c == "avx2") disable = HWY_AVX3 | HWY_AVX3_DL;
+    else if (c == "sse4") disable = HWY_AVX3 | HWY_AVX3_DL | HWY_AVX2;
+    else if (c == "scalar") disable = HWY_AVX3 | HWY_AVX3_DL | HWY_AVX2 | HWY_SSE4 | HWY_SSSE3;
+    else if (c != "avx512" && c != "best")
+      throw ConfigError("MESODPD_SIMD = " + c + " (environment): expected avx512, avx2, sse4, scalar or best");
+    hwy::DisableTargets(disable);
+    return true;
+  }();
+  (void)once;
+}
+}  // namespace
+
+std::string ForceCompute::simd_target() {
+  apply_simd_cap();
+  return hwy::TargetName(HWY_DYNAMIC_DISPATCH(compiled_target)());
+}
+
+std::vector<std::int64_t> ForceCompute::simd_targets() {
+  std::vector<std::int64_t> out;
+  for (std::int64_t t = hwy::SupportedTargets() & HWY_TARGETS; t != 0; t &= t - 1) out.push_back(t & -t);
+  return out;
+}
+
+ForceCompute::ForceCompute(PairLawTables laws, NoiseSettings noise)
+    : laws_(std::move(laws)), noise_(noise), ws_(std::make_unique<PairWorkspace>()) {}
+ForceCompute::~ForceCompute() = default;
+ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
+ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
+
+void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
+                           double dt, bool with_sums, PairSums& sums, Halo* halo, const double* density) {
+  apply_simd_cap();
+  PairJob job;
+  job.p = &p;
+  job.box = &box;
+  job.list = &list;
+  job.laws = &laws_;
+  job.rho = density;
+  job.step = step;
+  job.dt = dt;
+  job.noise = noise_;
+  job.with_sums = with_sums;
+  job.ws = ws_.get();
+  HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
+  const std::size_t n = p.n_local;
+  if (p.n_ghost > 0) {
+    std::int64_t* fixed = ws_->fixed.data();
+    if (halo != nullptr) halo->reverse_forces(fixed, p);
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      p.fx[i] = static_cast<double>(fixed_[3 * i]) * kForceUnscale;
-      p.fy[i] = static_cast<double>(fixed_[3 * i + 1]) * kForceUnscale;
-      p.fz[i] = static_cast<double>(fixed_[3 * i + 2]) * kForceUnscale;
+      p.fx[i] = static_cast<double>(fixed[3 * i]) * kForceUnscale;
+      p.fy[i] = static_cast<double>(fixed[3 * i + 1]) * kForceUnscale;
+      p.fz[i] = static_cast<double>(fixed[3 * i + 2]) * kForceUnscale;
     }
   }
-  if constexpr (kSums) {
+  if (with_sums) {
     // Each pair was evaluated on exactly one rank: the integer totals add up to the single-rank ones.
-    if (halo != nullptr) halo->comm().sum(std::span<std::int64_t>(total, 9));
+    if (halo != nullptr) halo->comm().sum(std::span<std::int64_t>(job.totals, 9));
+    for (int q = 0; q < 6; ++q) sums.virial[static_cast<std::size_t>(q)] = static_cast<double>(job.totals[q]) * kVirialUnscale;
+    sums.virial_conservative = static_cast<double>(job.totals[6]) * kVirialUnscale;
+    sums.potential_energy = static_cast<double>(job.totals[7]) * kVirialUnscale;
+    sums.pairs_in_range = static_cast<std::uint64_t>(job.totals[8]);
   }
-  if constexpr (kSums) {
-    for (int q = 0; q < 6; ++q) sums.virial[static_cast<std::size_t>(q)] = static_cast<double>(total[q]) * kVirialUnscale;
-    sums.virial_conservative = static_cast<double>(total[6]) * kVirialUnscale;
-    sums.potential_energy = static_cast<double>(total[7]) * kVirialUnscale;
-    sums.pairs_in_range = static_cast<std::uint64_t>(total[8]);
+}
+
+void ForceCompute::compute_density(ParticleData& p, const Box& box, const NeighborList& list,
+                                   const DensitySettings& density, std::vector<double>& rho, Halo* halo) {
+  apply_simd_cap();
+  rho.resize(p.size());
+  PairJob job;
+  job.p = &p;
+  job.box = &box;
+  job.list = &list;
+  job.density = &density;
+  job.out = rho.data();
+  job.ws = ws_.get();
+  HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
+  if (p.n_ghost > 0) {
+    std::int64_t* fixed = ws_->fixed.data();
+    if (halo != nullptr) halo->reverse_sums(fixed, 1, p);
+    const std::size_t n = p.n_local;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) rho[i] = static_cast<double>(fixed[i]) * kForceUnscale;
+    if (halo != nullptr) halo->forward_field(p, rho);
   }
 }
 
 }  // namespace mesodpd
+#endif  // HWY_ONCE

@@ -22,35 +22,14 @@
 
 namespace mesodpd {
 
-PairTable make_pair_table(const SimulationSpec& spec) {
-  PairTable t;
-  t.n_species = static_cast<int>(spec.species.size());
-  t.params.resize(static_cast<std::size_t>(t.n_species * t.n_species));
-  for (int a = 0; a < t.n_species; ++a)
-    for (int b = 0; b < t.n_species; ++b) {
-      const PairSpec& ps = spec.pair(a, b);
-      DpdPairParams& q = t.params[static_cast<std::size_t>(a * t.n_species + b)];
-      q.a = ps.a;
-      q.gamma = ps.gamma;
-      q.sigma = std::sqrt(2.0 * ps.gamma * spec.kT);  // seed 000 Eq. 7
-      q.rc = ps.rc;
-      q.rd = ps.rd;
-      q.s = ps.s;
-      const double range = std::max(ps.rc, ps.rd);
-      q.rcut2 = range * range;
-      t.max_cutoff = std::max(t.max_cutoff, range);
-    }
-  return t;
-}
-
 Simulation::Simulation(SimulationSpec spec, RunOptions options)
     : spec_(std::move(spec)),
       options_(std::move(options)),
       nlist_(NeighborSettings{}),
-      forces_(make_pair_table(spec_),
+      forces_(make_pair_laws(spec_),
               NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
-  nlist_ = NeighborList(NeighborSettings{forces_.table().max_cutoff,
+  nlist_ = NeighborList(NeighborSettings{forces_.max_cutoff(),
                                          spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
   if (spec_.integrator == IntegratorKind::GrootWarren)
     integrator_ = GrootWarrenIntegrator{spec_.lambda};
@@ -68,7 +47,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   box_.periodic = spec_.periodic;
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
   auto check_box = [&] {
-    const double two_rc = 2 * forces_.table().max_cutoff;
+    const double two_rc = 2 * forces_.max_cutoff();
     if (box_.len.x < two_rc || box_.len.y < two_rc || box_.len.z < two_rc)
       throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
   };

@@ -81,6 +81,7 @@ class Simulation {
   std::uint64_t total_particles() const { return n_total_; }
   // The decomposition, the communicator and the ghost exchange (inactive on one rank).
   const Halo& halo() const { return halo_; }
+  Halo& halo() { return halo_; }  // for extra pair passes run on the simulation's particles (tests, tools)
   const Box& box() const { return box_; }
   std::uint64_t current_step() const { return step_; }
   const std::vector<double>& species_mass() const { return mass_; }
@@ -127,7 +128,5 @@ class Simulation {
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
 };
 
-// Builds the dense pair table from a validated spec (sigma from the fluctuation-dissipation relation).
-PairTable make_pair_table(const SimulationSpec& spec);
 
 }  // namespace mesodpd

@@ -395,7 +395,10 @@ void read_species(const Section& top, SimulationSpec& spec) {
 }
 
 void read_pair(const Section& top, SimulationSpec& spec) {
-  const Section pair = top.table_or_empty("pair", {"a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
+  const Section pair =
+      top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
+  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd}, {"soft", PairStyle::Soft}})
+                        .value_or(PairStyle::Dpd);
   PairSection& sec = spec.pair_section;
   sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
                    .value_or(Mixing::Explicit);

@@ -310,31 +310,52 @@ void Halo::forward_field(ParticleData& p, std::vector<double>& f) {
       [&](const std::byte* in, std::size_t s) { std::memcpy(&f[s], in, sizeof(double)); });
 }
 
-void Halo::reverse_forces(std::int64_t* f3, const ParticleData& p) {
+void Halo::reverse_sums(std::int64_t* v, int components, const ParticleData& p) {
   if (!active()) return;
   Stopwatch sw(seconds_);
+  const auto nc = static_cast<std::size_t>(components);
   for (int d = 2; d >= 0; --d) {
     const auto u = static_cast<std::size_t>(d);
     if (!dec_.decomposed(d)) continue;
     for (int dir = 0; dir < 2; ++dir) {
       const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
-      std::vector<std::int64_t> out(3 * m);
+      std::vector<std::int64_t> out(nc * m);
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t s = storage_of(b + k);
-        for (int q = 0; q < 3; ++q) out[3 * k + static_cast<std::size_t>(q)] = f3[3 * s + static_cast<std::size_t>(q)];
+        for (std::size_t q = 0; q < nc; ++q) out[nc * k + q] = v[nc * s + q];
       }
       // Back along the way the ghosts came: to the rank they were received from.
       const std::vector<std::int64_t> in = records_from<std::int64_t>(
           swap(d, 1 - dir, 400, as_bytes_of(out)));
       const auto& list = send_[u][static_cast<std::size_t>(dir)];
-      if (in.size() != 3 * list.size()) throw std::runtime_error("halo: reverse force size mismatch");
+      if (in.size() != nc * list.size()) throw std::runtime_error("halo: reverse sum size mismatch");
       for (std::size_t k = 0; k < list.size(); ++k) {
         const std::size_t s = storage_of(list[k]);
-        for (int q = 0; q < 3; ++q) f3[3 * s + static_cast<std::size_t>(q)] += in[3 * k + static_cast<std::size_t>(q)];
+        for (std::size_t q = 0; q < nc; ++q) v[nc * s + q] += in[nc * k + q];
       }
     }
   }
   (void)p;  // storage indices come from the last build_ghosts
+}
+
+void Halo::forward_field(ParticleData& p, std::vector<double>& field) {
+  if (!active()) return;
+  Stopwatch sw(seconds_);
+  if (field.size() < p.size()) throw std::logic_error("halo: forward_field needs an entry per local and ghost");
+  // The same order as the ghost build: later axes forward values that arrived along earlier ones.
+  for (int d = 0; d < 3; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    if (!dec_.decomposed(d)) continue;
+    for (int dir = 0; dir < 2; ++dir) {
+      const auto& list = send_[u][static_cast<std::size_t>(dir)];
+      std::vector<double> out(list.size());
+      for (std::size_t k = 0; k < list.size(); ++k) out[k] = field[storage_of(list[k])];
+      const std::vector<double> in = records_from<double>(swap(d, dir, 500, as_bytes_of(out)));
+      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
+      if (in.size() != m) throw std::runtime_error("halo: forward field size mismatch");
+      for (std::size_t k = 0; k < m; ++k) field[storage_of(b + k)] = in[k];
+    }
+  }
 }
 
 }  // namespace mesodpd

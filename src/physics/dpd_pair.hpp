@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "core/vec3.hpp"
+#include "physics/pair_force.hpp"
 
 namespace mesodpd {
 
@@ -28,15 +29,10 @@ struct DpdPairParamsT {
 };
 using DpdPairParams = DpdPairParamsT<double>;
 
-// The three parts of the force on i due to j, each along r_hat_ij, kept apart because the
-// virial and the conservative pressure need them separately.
+// The three parts of the force on i due to j; energy U_ij = a rc/2 (1 - r/rc)^2, whose -dU/dr is the
+// conservative force.
 template <class Real>
-struct DpdPairForceT {
-  Real fc = 0;      // conservative magnitude along r_hat
-  Real fd = 0;      // dissipative magnitude along r_hat
-  Real fr = 0;      // random magnitude along r_hat
-  Real energy = 0;  // U_ij = a rc/2 (1 - r/rc)^2, whose -dU/dr is the conservative force
-};
+using DpdPairForceT = PairForceT<Real>;
 using DpdPairForce = DpdPairForceT<double>;
 
 // Which exponent the weight w_D = (1 - r/r_d)^s has. The common ones get exact closed forms (no pow),
@@ -92,5 +88,39 @@ MESODPD_HD DpdPairForceT<Real> dpd_pair_force(const DpdPairParamsT<Real>& p, std
   out.fr = p.sigma * wr * xi * inv_sqrt_dt;    // seed 000 Eq. 5
   return out;
 }
+
+// The standard DPD law as a functor for the shared pair loop (engine/force_compute.cpp) and the
+// reference loop. Parameters per species pair; the weight exponent picks a closed-form evaluator once
+// per table so the pair loop does not branch on s.
+struct DpdLaw {
+  template <class Real>
+  using Params = DpdPairParamsT<Real>;
+  static constexpr bool kVelocity = true;  // dissipative force reads r_hat . v_ij
+  static constexpr bool kNoise = true;     // random force reads xi_ij
+  static constexpr bool kDensity = false;
+
+  template <WeightKind W>
+  struct Eval {
+    template <class Real>
+    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+      return dpd_pair_force<W>(p, in.r, in.rv, in.xi, in.inv_sqrt_dt);
+    }
+  };
+
+  // Calls f(Eval<W>{}) with the closed form shared by every pair of `table`, or the general pow form.
+  template <class Table, class F>
+  static void with_evaluator(const Table& table, F&& f) {
+    WeightKind w = table.empty() ? WeightKind::General : weight_kind_of(static_cast<double>(table[0].s));
+    for (const auto& q : table)
+      if (weight_kind_of(static_cast<double>(q.s)) != w) w = WeightKind::General;
+    switch (w) {
+      case WeightKind::Two: return f(Eval<WeightKind::Two>{});
+      case WeightKind::One: return f(Eval<WeightKind::One>{});
+      case WeightKind::Half: return f(Eval<WeightKind::Half>{});
+      case WeightKind::Quarter: return f(Eval<WeightKind::Quarter>{});
+      case WeightKind::General: return f(Eval<WeightKind::General>{});
+    }
+  }
+};
 
 }  // namespace mesodpd

@@ -1,19 +1,18 @@
-// Dense species-by-species table of DPD pair parameters, read by the force loops.
+// Dense species-by-species table of pair parameters of one force law (or density kernel), read by the
+// pair loops.
 #pragma once
+#include <cstddef>
 #include <vector>
-
-#include "physics/dpd_pair.hpp"
 
 namespace mesodpd {
 
+template <class Params>
 struct PairTable {
   int n_species = 0;
-  std::vector<DpdPairParams> params;  // n_species * n_species, symmetric
-  double max_cutoff = 0.0;
+  std::vector<Params> params;  // n_species * n_species, symmetric
+  double max_cutoff = 0.0;     // largest interaction range of any pair
 
-  const DpdPairParams& operator()(int a, int b) const {
-    return params[static_cast<std::size_t>(a * n_species + b)];
-  }
+  const Params& operator()(int a, int b) const { return params[static_cast<std::size_t>(a * n_species + b)]; }
 };
 
 }  // namespace mesodpd

@@ -751,5 +751,18 @@ TEST(Config, DocumentationExampleParses) {
   EXPECT_TRUE(spec.poiseuille.enabled);
 }
 
+TEST(Config, PairStyleChoosesTheForceLaw) {
+  EXPECT_EQ(parse_config(minimal_plus(""), "test.toml").pair_style, PairStyle::Dpd);
+  const SimulationSpec soft = parse_config(minimal_plus("[pair]\nstyle = \"soft\"\na = 10.0\nrc = 0.9\n"), "test.toml");
+  EXPECT_EQ(soft.pair_style, PairStyle::Soft);
+  EXPECT_EQ(soft.pairs.at(0).a, 10.0);
+  EXPECT_EQ(soft.pairs.at(0).rc, 0.9);
+  expect_error(minimal_plus("[pair]\nstyle = \"sofft\"\n"), {"pair.style", "soft"});
+  // Thermostat keys would be silently ignored by the soft law: refused, naming the key.
+  expect_error(minimal_plus("[pair]\nstyle = \"soft\"\ngamma = 4.5\n"), {"pair.gamma", "soft"});
+  expect_error(minimal_plus("[pair]\nstyle = \"soft\"\n\n[[pair.override]]\nspecies = [\"A\", \"A\"]\nrd = 0.8\n"),
+               {"pair.override[0].rd", "soft"});
+}
+
 }  // namespace
 }  // namespace mesodpd

@@ -6,6 +6,7 @@
 
 #include "core/philox.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/soft_pair.hpp"
 
 using namespace mesodpd;
 
@@ -127,5 +128,31 @@ TEST(PairForce, ActionEqualsReactionExactly) {
       ASSERT_EQ(fi.y, -fj.y);
       ASSERT_EQ(fi.z, -fj.z);
     }
+  }
+}
+
+TEST(SoftPair, ForceIsMinusGradientOfEnergyAndVanishesAtTheEnds) {
+  // U = A [1 + cos(pi r / r_c)]: F = -dU/dr by central differences inside, zero at r = 0, zero at and
+  // beyond r_c, where U also reaches 0 (the potential is continuous).
+  for (const double rc : {0.8, 1.0, 1.3}) {
+    const SoftPairParamsT<double> p{12.0, rc, rc * rc};
+    const SoftLaw::Eval eval;
+    auto at = [&](double r) {
+      PairInput<double> in;
+      in.r = r;
+      return eval(p, in);
+    };
+    for (double r = 0.05; r < rc - 0.01; r += 0.037) {
+      const double h = 1e-6;
+      const double fd = -(at(r + h).energy - at(r - h).energy) / (2 * h);
+      EXPECT_NEAR(at(r).fc, fd, 1e-6 * p.a) << "r = " << r;
+      EXPECT_GT(at(r).fc, 0.0) << "repulsive everywhere inside, r = " << r;
+    }
+    EXPECT_EQ(at(0.0).fc, 0.0);
+    EXPECT_NEAR(at(0.0).energy, 2 * p.a, 1e-12);
+    EXPECT_EQ(at(rc).fc, 0.0);
+    EXPECT_EQ(at(rc).energy, 0.0);
+    EXPECT_EQ(at(rc + 0.1).energy, 0.0);
+    EXPECT_NEAR(at(rc - 1e-9).energy, 0.0, 1e-9);
   }
 }

@@ -1,0 +1,67 @@
+// Internal to the pair loop (engine/force_compute.cpp): the per-thread batch of candidate pairs with the
+// arrays of the evaluation passes, and the description of one pair computation handed to the loop
+// compiled for the CPU's instruction set.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/force_compute.hpp"
+
+namespace mesodpd {
+
+// Pairs (i, j) waiting for evaluation, with the arrays of the evaluation passes. Arrays that vector
+// stores may overrun carry kSlack extra entries (one vector of the widest target).
+struct PairBatch {
+  static constexpr std::size_t kCapacity = 1024;
+  static constexpr std::size_t kSlack = 16;
+  std::size_t m = 0;
+  alignas(64) std::uint32_t i[kCapacity + kSlack];
+  // Copies of particle i's position, velocity and id for every pair, written a vector at a time when
+  // the pairs of one i are appended, so the passes read them contiguously instead of gathering.
+  alignas(64) double ix[kCapacity + kSlack], iy[kCapacity + kSlack], iz[kCapacity + kSlack];
+  alignas(64) double ivx[kCapacity + kSlack], ivy[kCapacity + kSlack], ivz[kCapacity + kSlack];
+  alignas(64) std::uint32_t iid[kCapacity + kSlack];
+  alignas(64) std::uint32_t j[kCapacity + kSlack];  // compressed stores may run past m
+  alignas(64) PairReal dx[kCapacity];
+  alignas(64) PairReal dy[kCapacity];
+  alignas(64) PairReal dz[kCapacity];
+  alignas(64) PairReal r[kCapacity];
+  alignas(64) PairReal inv_r[kCapacity];
+  alignas(64) PairReal rv[kCapacity];
+  alignas(64) PairReal xi[kCapacity];
+  alignas(64) std::int64_t qx[kCapacity];
+  alignas(64) std::int64_t qy[kCapacity];
+  alignas(64) std::int64_t qz[kCapacity];
+  // Candidates of the current cell, nearest-image coordinates relative to a particle of the cell.
+  std::vector<PairReal> cand_x, cand_y, cand_z;
+  std::vector<std::uint32_t> cand_j;
+};
+
+struct PairWorkspace {
+  std::vector<std::vector<std::int64_t>> buffers;  // per thread: components interleaved; all zero between calls
+  std::vector<std::int64_t> fixed;                 // summed over threads, when there are ghosts
+  std::vector<std::unique_ptr<PairBatch>> batches;  // per thread
+};
+
+// One pair computation. Forces: `laws` set, results in p.f{x,y,z} (no ghosts) or `ws->fixed` (3 per
+// particle). Density: `density` set, results in `out` (no ghosts) or `ws->fixed` (1 per particle).
+struct PairJob {
+  ParticleData* p = nullptr;
+  const Box* box = nullptr;
+  const NeighborList* list = nullptr;
+  const PairLawTables* laws = nullptr;
+  const DensitySettings* density = nullptr;
+  const double* rho = nullptr;  // local density of locals and ghosts, for laws with kDensity
+  double* out = nullptr;
+  std::uint64_t step = 0;
+  double dt = 1;
+  NoiseSettings noise;
+  bool with_sums = false;
+  PairWorkspace* ws = nullptr;
+  // Integer sums of this rank: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
+  std::int64_t totals[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+};
+
+}  // namespace mesodpd

@@ -1,0 +1,98 @@
+// Brute-force pair loops over the shared force laws and density kernels (the test oracle).
+#include "engine/reference_pair_loop.hpp"
+
+#include <cmath>
+#include <variant>
+
+#include "engine/fixed_point.hpp"
+
+namespace mesodpd {
+
+namespace {
+// Calls visit(i, j, dx, dy, dz, r) for every pair i < j of local particles within `cutoff` (minimum
+// image on periodic axes only).
+template <class Visit>
+void for_each_pair(const ParticleData& p, const Box& box, double cutoff, Visit&& visit) {
+  const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
+  const double hx = box.half_image_len(0), hy = box.half_image_len(1), hz = box.half_image_len(2);
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    for (std::size_t j = i + 1; j < p.n_local; ++j) {
+      const double dx = minimum_image(p.x[i] - p.x[j], lx, hx);
+      const double dy = minimum_image(p.y[i] - p.y[j], ly, hy);
+      const double dz = minimum_image(p.z[i] - p.z[j], lz, hz);
+      const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (r < cutoff) visit(i, j, dx, dy, dz, r);
+    }
+}
+}  // namespace
+
+void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
+                      std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
+                      const double* rho) {
+  std::vector<std::array<std::int64_t, 3>> q(p.n_local, {0, 0, 0});
+  std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::visit(
+      [&](const auto& lt) {
+        using Law = typename std::decay_t<decltype(lt)>::LawType;
+        Law::with_evaluator(lt.table.params, [&](auto eval) {
+          for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx, double dy,
+                                                          double dz, double r) {
+            const auto& pp = lt.table(p.species[i], p.species[j]);
+            const double inv_r = r > 0 ? 1.0 / r : 0.0;
+            PairInput<double> in;
+            in.r = r;
+            in.rv = (dx * (p.vx[i] - p.vx[j]) + dy * (p.vy[i] - p.vy[j]) + dz * (p.vz[i] - p.vz[j])) * inv_r;
+            in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
+            in.inv_sqrt_dt = 1.0 / std::sqrt(dt);
+            if (rho != nullptr) {
+              in.rho_i = rho[i];
+              in.rho_j = rho[j];
+            }
+            const PairForceT<double> pf = eval(pp, in);
+            const double scale = (pf.fc + pf.fd + pf.fr) * inv_r;
+            const double fv[3] = {scale * dx, scale * dy, scale * dz};
+            for (int c = 0; c < 3; ++c) {
+              const std::int64_t v = to_fixed(fv[c], kForceScale);
+              q[i][static_cast<std::size_t>(c)] += v;
+              q[j][static_cast<std::size_t>(c)] -= v;
+            }
+            total[0] += to_fixed(dx * fv[0], kVirialScale);
+            total[1] += to_fixed(dy * fv[1], kVirialScale);
+            total[2] += to_fixed(dz * fv[2], kVirialScale);
+            total[3] += to_fixed(dx * fv[1], kVirialScale);
+            total[4] += to_fixed(dx * fv[2], kVirialScale);
+            total[5] += to_fixed(dy * fv[2], kVirialScale);
+            total[6] += to_fixed(pf.fc * r, kVirialScale);
+            total[7] += to_fixed(pf.energy, kVirialScale);
+            total[8] += r * r < pp.rcut2 ? 1 : 0;
+          });
+        });
+      },
+      laws);
+  f.assign(p.n_local, {0.0, 0.0, 0.0});
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    for (std::size_t c = 0; c < 3; ++c) f[i][c] = static_cast<double>(q[i][c]) * kForceUnscale;
+  for (std::size_t c = 0; c < 6; ++c) sums.virial[c] = static_cast<double>(total[c]) * kVirialUnscale;
+  sums.virial_conservative = static_cast<double>(total[6]) * kVirialUnscale;
+  sums.potential_energy = static_cast<double>(total[7]) * kVirialUnscale;
+  sums.pairs_in_range = static_cast<std::uint64_t>(total[8]);
+}
+
+void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho) {
+  std::vector<std::int64_t> q(p.n_local, 0);
+  auto run = [&](auto kernel) {
+    for_each_pair(p, box, density.table.max_cutoff, [&](std::size_t i, std::size_t j, double, double, double, double r) {
+      const std::int64_t v = to_fixed(kernel(density.table(p.species[i], p.species[j]), r), kForceScale);
+      q[i] += v;
+      q[j] += v;
+    });
+  };
+  switch (density.kernel) {
+    case DensityKernelKind::Warren: run(WarrenDensityKernel{}); break;
+    case DensityKernelKind::Lucy: run(LucyDensityKernel{}); break;
+  }
+  rho.assign(p.n_local, 0.0);
+  for (std::size_t i = 0; i < p.n_local; ++i) rho[i] = static_cast<double>(q[i]) * kForceUnscale;
+}
+
+}  // namespace mesodpd

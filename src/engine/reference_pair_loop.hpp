@@ -1,0 +1,25 @@
+// The serial reference backend: every pair of local particles by brute force (minimum image, O(N^2)),
+// evaluated with the same force-law functors and density kernels as the fast loop, in double precision.
+// Plain and readable on purpose: it is the oracle the fast pair loop is tested against (DESIGN.md).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+#include "engine/force_compute.hpp"
+
+namespace mesodpd {
+
+// Pair forces on the local particles of `p` (a single domain, no ghosts) at step `step`: writes f[i]
+// and the pair sums. Sums are accumulated per pair in the engine's fixed point, so in the double build
+// the fast loop must agree bit for bit. `rho` (one entry per particle) for laws with kDensity.
+void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
+                      std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
+                      const double* rho = nullptr);
+
+// rho[i] = sum over j != i of w(r_ij), in the engine's fixed point.
+void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho);
+
+}  // namespace mesodpd
