@@ -338,26 +338,6 @@ void Halo::reverse_sums(std::int64_t* v, int components, const ParticleData& p) 
   (void)p;  // storage indices come from the last build_ghosts
 }
 
-void Halo::forward_field(ParticleData& p, std::vector<double>& field) {
-  if (!active()) return;
-  Stopwatch sw(seconds_);
-  if (field.size() < p.size()) throw std::logic_error("halo: forward_field needs an entry per local and ghost");
-  // The same order as the ghost build: later axes forward values that arrived along earlier ones.
-  for (int d = 0; d < 3; ++d) {
-    const auto u = static_cast<std::size_t>(d);
-    if (!dec_.decomposed(d)) continue;
-    for (int dir = 0; dir < 2; ++dir) {
-      const auto& list = send_[u][static_cast<std::size_t>(dir)];
-      std::vector<double> out(list.size());
-      for (std::size_t k = 0; k < list.size(); ++k) out[k] = field[storage_of(list[k])];
-      const std::vector<double> in = records_from<double>(swap(d, dir, 500, as_bytes_of(out)));
-      const std::size_t b = recv_begin_[u][static_cast<std::size_t>(dir)], m = recv_count_[u][static_cast<std::size_t>(dir)];
-      if (in.size() != m) throw std::runtime_error("halo: forward field size mismatch");
-      for (std::size_t k = 0; k < m; ++k) field[storage_of(b + k)] = in[k];
-    }
-  }
-}
-
 }  // namespace mesodpd
 
 namespace mesodpd {

@@ -51,10 +51,6 @@ class Halo {
   void reverse_forces(std::int64_t* f3, const ParticleData& p) { reverse_sums(f3, 3, p); }
   // The same for any number of integer components per particle (v: `components` entries per particle).
   void reverse_sums(std::int64_t* v, int components, const ParticleData& p);
-  // Copies the owners' values of a per-particle field to their ghost copies (a forward exchange along
-  // the paths of the last build_ghosts): for quantities computed on locals between neighbour builds,
-  // such as the local density of a multi-pass pair computation. `field` has p.size() entries.
-  void forward_field(ParticleData& p, std::vector<double>& field);
 
   // Particles on all ranks after the last migration (0 before the first): particles change ranks
   // only there, so comparing it with the expected total finds a lost or duplicated one.
