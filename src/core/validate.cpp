@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "io/frame.hpp"
+
 namespace mesodpd {
 
 SpecError::SpecError(std::string key, std::string value, std::string why)
@@ -277,7 +279,9 @@ void validate_output(SimulationSpec& spec) {
   DumpSpec& d = spec.dump;
   if (!d.enabled) return;
   check_at_least("output.dump.every", d.every, 1);
-  static const std::vector<std::string_view> kFields{"id", "species", "position", "velocity", "force", "image"};
+  // The six standard selections and the extra fields the particle field list offers to frames.
+  const std::vector<std::string>& names = trajectory_field_names();
+  const std::vector<std::string_view> kFields(names.begin(), names.end());
   if (d.fields.empty()) fail("output.dump.fields", "[]", fmt::format("must list at least one of {}", quoted_list(kFields)));
   for (std::size_t k = 0; k < d.fields.size(); ++k) {
     const std::string& f = d.fields[k];

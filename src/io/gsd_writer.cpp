@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -39,12 +40,24 @@ constexpr std::uint64_t kInitialNameBlocks = 16;  // 1 KiB, room for every name 
 // GSD element type codes.
 enum GsdType : std::uint8_t {
   kUint8 = 1,
+  kUint16 = 2,
   kUint32 = 3,
   kUint64 = 4,
   kInt8 = 5,
+  kInt16 = 6,
   kInt32 = 7,
+  kInt64 = 8,
   kFloat32 = 9,
+  kFloat64 = 10,
 };
+
+// The GSD type code of an arithmetic element type.
+template <class T>
+constexpr GsdType gsd_type_of() {
+  if constexpr (std::is_floating_point_v<T>) return sizeof(T) == 4 ? kFloat32 : kFloat64;
+  else if constexpr (std::is_signed_v<T>) return sizeof(T) == 1 ? kInt8 : sizeof(T) == 2 ? kInt16 : sizeof(T) == 4 ? kInt32 : kInt64;
+  else return sizeof(T) == 1 ? kUint8 : sizeof(T) == 2 ? kUint16 : sizeof(T) == 4 ? kUint32 : kUint64;
+}
 
 // Bytes per element of a GSD type code (the file layer's full list, not only the types we write);
 // 0 for an unknown code.
@@ -491,6 +504,19 @@ void GsdWriter::write_frame(const FrameView& f) {
   if (n > 0 && fields_.id) {
     chunks.push_back(Chunk::make("log/particles/id", kUint32, 1,
                                  per_particle([&](std::size_t i, int) { return f.id[i]; }, 1)));
+  }
+  // Extra fields of the particle field list, in their own element type, as per-particle log chunks.
+  for (const std::string& name : fields_.extra) {
+    const FrameView::Extra& e = extra_array(f, name);
+    if (n == 0) continue;
+    visit_extra(e, 0, [&](auto first) {
+      using T = decltype(first);
+      chunks.push_back(Chunk::make("log/particles/" + name, gsd_type_of<T>(), 1, per_particle([&](std::size_t i, int) {
+                                     T v{};
+                                     visit_extra(e, i, [&](auto x) { v = static_cast<T>(x); });
+                                     return v;
+                                   }, 1)));
+    });
   }
 
   // Readers search a frame's entries by name id, so they must be sorted by id within the frame.

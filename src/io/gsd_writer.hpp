@@ -18,6 +18,8 @@
 //   particles/image           int32 [N x 3]     "image"
 //   log/particles/force       float32 [N x 3]   "force" (the hoomd schema has no force chunk)
 //   log/particles/id          uint32 [N]        "id" (the hoomd schema has no id chunk)
+//   log/particles/<name>      its type [N]      an extra field of the particle field list
+//                                               (FrameView::extra), when selected by name
 // Particles are written in increasing global id, so row k of every per-particle chunk is the k-th
 // smallest id; for ids 0..N-1 the row index equals the id. The frame's `time` has no place in the
 // schema and is not written.
@@ -35,7 +37,7 @@ namespace mesodpd {
 
 class GsdWriter {
  public:
-  // `fields` ⊆ {"id","species","position","velocity","force","image"}. Without `append` the file
+  // `fields` ⊆ trajectory_field_names() (io/frame.hpp). Without `append` the file
   // is created or truncated. With `append` frames are added after those of an existing GSD 2.x
   // "hoomd" schema file (a missing or empty file is created); other files are rejected.
   // With `append` and `keep_through_step` = K (a restart from a checkpoint at step K), the existing

@@ -40,6 +40,11 @@ void LammpsDumpWriter::write_frame(const FrameView& f) {
   if (fields_.velocity) fmt::format_to(out, " vx vy vz");
   if (fields_.force) fmt::format_to(out, " fx fy fz");
   if (fields_.image) fmt::format_to(out, " ix iy iz");
+  std::vector<const FrameView::Extra*> extra;
+  for (const std::string& name : fields_.extra) {
+    extra.push_back(&extra_array(f, name));
+    fmt::format_to(out, " {}", name);
+  }
   fmt::format_to(out, "\n");
 
   for (const std::size_t i : order) {
@@ -72,6 +77,16 @@ void LammpsDumpWriter::write_frame(const FrameView& f) {
     if (fields_.image) {
       sep();
       fmt::format_to(out, "{} {} {}", f.ix[i], f.iy[i], f.iz[i]);
+    }
+    for (const FrameView::Extra* e : extra) {
+      sep();
+      visit_extra(*e, i, [&](auto v) {
+        // Integers of one byte print as numbers, not characters.
+        if constexpr (sizeof(v) == 1)
+          fmt::format_to(out, "{}", static_cast<int>(v));
+        else
+          fmt::format_to(out, "{}", v);
+      });
     }
     buf.push_back('\n');
   }

@@ -17,11 +17,12 @@ namespace mesodpd {
 //   ITEM: BOX BOUNDS pp pp pp / lo hi (three lines)
 //   ITEM: ATOMS <columns> / one line per particle, sorted by id
 // Columns, in this order for the selected fields: id type x y z vx vy vz fx fy fz ix iy iz, where
-// type = species index + 1 (LAMMPS types start at 1). Reals are printed as the shortest decimal
+// type = species index + 1 (LAMMPS types start at 1), then one column per selected extra field of
+// the particle field list, named after it (FrameView::extra). Reals are printed as the shortest decimal
 // that reads back to the same double.
 class LammpsDumpWriter {
  public:
-  // `fields` ⊆ {"id","species","position","velocity","force","image"}. With `append` new frames
+  // `fields` ⊆ trajectory_field_names() (io/frame.hpp). With `append` new frames
   // go after those already in the file (restarts); otherwise the file is truncated.
   LammpsDumpWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append = false);
 

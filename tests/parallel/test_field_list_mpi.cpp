@@ -4,13 +4,20 @@
 // mpirun on 2 and 4 ranks (CTest label mpi), where particles really cross domains.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
 #include "engine/domain_exchange.hpp"
+#include "io/frame.hpp"
+#include "mesodpd/spec.hpp"
+#include "io/lammps_dump_writer.hpp"
 #include "io/state_checkpoint.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -148,6 +155,41 @@ TEST(FieldList, ANewFieldIsGatheredAndSurvivesACheckpoint) {
       ASSERT_EQ(c.particles.rho[i], rho_of(c.particles.id[i]));
       ASSERT_EQ(c.particles.molecule[i], molecule_of(c.particles.id[i]));
     }
+  });
+}
+
+TEST(FieldList, ANewFrameFieldIsOfferedToTrajectories) {
+  // rho is flagged kFrame: it becomes a selectable trajectory field and a dump column; molecule is
+  // not flagged and stays unknown to trajectories.
+  const auto& names = trajectory_field_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "rho"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "molecule"), names.end());
+  EXPECT_THROW(parse_trajectory_fields({"id", "molecule"}, "t.lammpstrj"), ConfigError);
+  World w;
+  make_world(w);
+  const ParticleData all = gather_by_id(w.p, w.halo.comm(), w.total);
+  w.halo.comm().on_root([&] {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() / "mesodpd_field_list_frame.lammpstrj";
+    {
+      LammpsDumpWriter writer(file, {"rho", "id"});
+      FrameView f;
+      f.box_len = {8, 8, 8};
+      set_frame_arrays(f, all);
+      writer.write_frame(f);
+    }
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line) && line.rfind("ITEM: ATOMS", 0) != 0) {
+    }
+    ASSERT_EQ(line, "ITEM: ATOMS id rho");
+    std::size_t rows = 0;
+    for (std::uint32_t id; in >> id;) {
+      double rho = 0;
+      in >> rho;
+      ASSERT_EQ(rho, rho_of(id)) << "id " << id;
+      ++rows;
+    }
+    EXPECT_EQ(rows, w.total);
   });
 }
 
