@@ -64,7 +64,7 @@ struct ForcePass {
   using Params = typename Law::template Params<PairReal>;
 
   Eval eval;
-  std::vector<Params> params;  // the table in the pair arithmetic type
+  const Params* params = nullptr;  // the table in the pair arithmetic type (LawTable::params_real)
   int ns = 1;
   PairReal inv_sqrt_dt = 1;
   const std::int32_t* species = nullptr;
@@ -75,7 +75,7 @@ struct ForcePass {
     // vectorised loop gather them).
     auto run = [&]<bool kOne>() {
       const Params p0 = params[0];
-      const Params* tab = params.data();
+      const Params* tab = params;
       const std::int32_t* sp = species;
       for (std::size_t k = 0; k < m; ++k) {
         const Params& pp = kOne ? p0 : tab[sp[b.i[k]] * ns + sp[b.j[k]]];
@@ -471,7 +471,7 @@ void run_pair_job(PairJob& job) {
             auto run = [&]<bool kSums>() {
               ForcePass<Law, decltype(eval), kSums> pass;
               pass.eval = eval;
-              pass.params = converted<typename decltype(pass)::Params>(lt.table);
+              pass.params = lt.params_real.data();
               pass.ns = lt.table.n_species;
               pass.inv_sqrt_dt = static_cast<PairReal>(1.0 / std::sqrt(job.dt));
               pass.species = job.p->species.data();

@@ -25,13 +25,6 @@ struct NoiseSettings {
   NoiseKind kind = NoiseKind::Uniform;
 };
 
-// Arithmetic type of the pair passes: double, or float with -DMESODPD_SINGLE=ON. Positions,
-// velocities and the fixed-point sums stay double/integer either way (docs/performance.md).
-#ifdef MESODPD_SINGLE_PRECISION
-using PairReal = float;
-#else
-using PairReal = double;
-#endif
 
 // A density kernel and its per-species-pair range, for ForceCompute::compute_density.
 struct DensitySettings {

@@ -2,7 +2,9 @@
 // spec. Adding a law: its header in src/physics/, one entry in PairLawTables, one case in
 // make_pair_laws (docs/architecture.md, "Add a pair force law").
 #pragma once
+#include <utility>
 #include <variant>
+#include <vector>
 
 #include "mesodpd/spec.hpp"
 #include "physics/dpd_pair.hpp"
@@ -11,11 +13,26 @@
 
 namespace mesodpd {
 
-// One law with its per-species-pair parameters (double; the pair loop converts them to its arithmetic type).
+// Arithmetic type of the pair passes: double, or float with -DMESODPD_SINGLE=ON. Positions,
+// velocities and the fixed-point sums stay double/integer either way (docs/performance.md).
+#ifdef MESODPD_SINGLE_PRECISION
+using PairReal = float;
+#else
+using PairReal = double;
+#endif
+
+// One law with its per-species-pair parameters: `table` in double (reference loop, analysis) and
+// `params_real`, the same in the pair arithmetic type, converted once on construction (not per step).
 template <class Law>
 struct LawTable {
   using LawType = Law;
   PairTable<typename Law::template Params<double>> table;
+  std::vector<typename Law::template Params<PairReal>> params_real;
+
+  LawTable() = default;
+  explicit LawTable(PairTable<typename Law::template Params<double>> t) : table(std::move(t)) {
+    for (const auto& q : table.params) params_real.push_back(q.template as<PairReal>());
+  }
 };
 
 // Every law the shared pair loop is instantiated for (per SIMD target), in the order of PairStyle.
