@@ -20,6 +20,7 @@
 #include "neighbor/cell_grid.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "physics/dpd_pair.hpp"
+#include "random_particles.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;
@@ -44,21 +45,6 @@ std::array<double, 3> displacement(const Box& box, double xi, double yi, double 
     out[static_cast<std::size_t>(a)] = box.periodic[static_cast<std::size_t>(a)] ? d[a] - len * std::nearbyint(d[a] / len) : d[a];
   }
   return out;
-}
-
-ParticleData random_particles(const Box& box, std::size_t n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  ParticleData p;
-  p.resize(n);
-  p.n_local = n;
-  for (std::size_t i = 0; i < n; ++i) {
-    p.id[i] = static_cast<std::uint32_t>(1 + i);
-    p.x[i] = u(rng) * box.len.x;
-    p.y[i] = u(rng) * box.len.y;
-    p.z[i] = u(rng) * box.len.z;
-  }
-  return p;
 }
 
 using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
@@ -164,7 +150,7 @@ TEST(Boundaries, NeighborListEqualsBruteForceWithBoundedAxes) {
         Box box;
         box.len = len;
         box.periodic = per;
-        ParticleData p = random_particles(box, static_cast<std::size_t>(3 * box.volume()), seed++);
+        ParticleData p = test::random_particles(box, static_cast<std::size_t>(3 * box.volume()), seed++);
         NeighborList list(NeighborSettings{1.0, 0.3, sort});
         list.build(p, box);
         (sort && list.grid().has_half_stencil() ? half_runs : fallback_runs)++;

@@ -20,30 +20,12 @@
 #include "engine/simulation.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "physics/dpd_pair.hpp"
+#include "random_particles.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;
 
 namespace {
-
-ParticleData random_particles(const Box& box, std::size_t n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
-  ParticleData p;
-  p.resize(n);
-  p.n_local = n;
-  for (std::size_t i = 0; i < n; ++i) {
-    p.id[i] = static_cast<std::uint32_t>(1000 + 3 * i);
-    p.x[i] = u(rng) * box.len.x;
-    p.y[i] = u(rng) * box.len.y;
-    p.z[i] = u(rng) * box.len.z;
-    p.vx[i] = g(rng);
-    p.vy[i] = g(rng);
-    p.vz[i] = g(rng);
-  }
-  return p;
-}
 
 using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
 
@@ -91,7 +73,7 @@ TEST(NeighborList, EqualsBruteForceOnBoxesOfSeveralShapes) {
   for (const Vec3& len : shapes) {
     for (bool sort : {false, true}) {
       Box box{len};
-      ParticleData p = random_particles(box, static_cast<std::size_t>(3 * box.volume()), seed++);
+      ParticleData p = test::random_particles(box, static_cast<std::size_t>(3 * box.volume()), seed++, 1, 1000, 3);
       NeighborList list(NeighborSettings{1.0, 0.3, sort});
       list.build(p, box);
       const PairSet expected = brute_force_pairs(p, box, 1.3);

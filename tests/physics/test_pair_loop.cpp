@@ -17,6 +17,7 @@
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
 #include "neighbor/neighbor_list.hpp"
+#include "random_particles.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;
@@ -32,22 +33,7 @@ constexpr bool kExact = true;
 // n particles of `species` kinds, uniformly placed, Gaussian velocities, sparse ids. The last two
 // particles sit on top of each other (a pair at r = 0 must give zero force, not NaN).
 ParticleData random_particles(const Box& box, std::size_t n, int species, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
-  ParticleData p;
-  p.resize(n);
-  p.n_local = n;
-  for (std::size_t i = 0; i < n; ++i) {
-    p.id[i] = static_cast<std::uint32_t>(7 + 5 * i);
-    p.species[i] = static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(species));
-    p.x[i] = u(rng) * box.len.x;
-    p.y[i] = u(rng) * box.len.y;
-    p.z[i] = u(rng) * box.len.z;
-    p.vx[i] = g(rng);
-    p.vy[i] = g(rng);
-    p.vz[i] = g(rng);
-  }
+  ParticleData p = test::random_particles(box, n, seed, species, 7, 5);
   p.x[n - 1] = p.x[n - 2];
   p.y[n - 1] = p.y[n - 2];
   p.z[n - 1] = p.z[n - 2];
