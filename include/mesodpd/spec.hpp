@@ -35,6 +35,7 @@ struct SpeciesSpec {
   std::optional<double> density;               // [[species]] density: when set, validate() sets count
   std::uint64_t count = 0;                     // [[species]] count, or round(density x box volume)
   Placement placement = Placement::Random;     // [[species]] placement
+  bool frozen = false;                         // [[species]] frozen: wall particles, never integrated
 };
 
 // DPD pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
@@ -101,6 +102,52 @@ struct DumpSpec {
   std::string file;  // relative to the output directory; validate() fills trajectory.lammpstrj / .gsd
 };
 
+// One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp.
+enum class ShapeKind { Plane, Cylinder, Sphere, Box, Pillars, Image, Union, Difference };
+enum class Lattice { Square, Hexagonal };
+struct ShapeSpec {
+  ShapeKind kind = ShapeKind::Plane;
+  std::array<double, 3> point{0, 0, 0};      // plane: a point of the surface; pillars: lattice origin
+  std::array<double, 3> normal{0, 0, 1};     // plane: unit normal pointing into the fluid
+  std::array<double, 3> center{0, 0, 0};     // cylinder, sphere
+  std::array<double, 3> direction{0, 0, 1};  // cylinder: axis direction (any, normalised by validate)
+  double radius = 0.0;                       // cylinder, sphere, pillars
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};  // box corners
+  Lattice lattice = Lattice::Square;         // pillars
+  double spacing = 0.0;                      // pillars: centre-to-centre distance L
+  int axis = 2;                              // pillars: pillar axis; image: extrusion axis of a 2-D image
+  std::string file;                          // image: PGM (2-D, extruded) or MESODPD-VOXELS (3-D) file
+  double voxel_size = 0.0;                   // image: edge of one pixel/voxel (image extent == box)
+  bool invert = false;                       // image: swap solid and fluid
+  std::vector<ShapeSpec> parts;              // union, difference (first minus the others)
+};
+
+// [[solid]]: one body of frozen wall particles (the drag is measured per body).
+struct SolidSpec {
+  std::string name;                          // [[solid]] name (unique; drag output)
+  std::string species;                       // [[solid]] species: a frozen species its particles become
+  int species_index = -1;                    // resolved by validate()
+  std::array<double, 3> velocity{0, 0, 0};   // [[solid]] velocity: wall velocity (Couette)
+  ShapeSpec shape;
+};
+
+// Velocity rule for a fluid particle moving into the thin layer at a solid surface (seed 000 Sect. 3.2.1).
+enum class ReflectionKind { None, Specular, BounceBack, Maxwell };
+
+// [walls]: settings shared by all solids.
+struct WallsSpec {
+  ReflectionKind reflection = ReflectionKind::BounceBack;  // [walls] reflection
+  double layer = 0.1;                                      // [walls] layer: reflecting layer thickness
+  double depth = 0.0;                                      // [walls] depth: frozen shell kept (0 = largest cutoff)
+  std::uint64_t drag_start = 0;                            // [walls] drag_start: steps before drag sampling
+  std::uint64_t drag_every = 1;                            // [walls] drag_every
+  int drag_blocks = 10;                                    // [walls] drag_blocks: blocks for the error bar
+  std::array<double, 3> reference_velocity{0, 0, 0};       // [walls] reference_velocity: v of C_D, Re
+  double reference_length = 0.0;                          // [walls] reference_length: d of C_D, Re (0: none)
+  double reference_area = 0.0;                             // [walls] reference_area: A of C_D (0: d x box)
+  double viscosity = 0.0;                                  // [walls] viscosity: mu of Re (0: none)
+};
+
 struct SimulationSpec {
   std::string source;                           // file the spec came from (for messages)
   std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic box lengths
@@ -135,6 +182,8 @@ struct SimulationSpec {
   PoiseuilleSpec poiseuille;                    // [poiseuille]
   RdfSpec rdf;                                  // [analysis.rdf]
   MsdSpec msd;                                  // [analysis.msd]
+  std::vector<SolidSpec> solids;                // [[solid]]
+  WallsSpec walls;                              // [walls]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {
