@@ -100,6 +100,7 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
   const bool restarted = opt_.restarted;
   if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
   late_from_ = start.step + (opt_.final_step > start.step ? (opt_.final_step - start.step) / 2 : 0);
+  for (const auto& sp : s.species) frozen_.push_back(sp.frozen ? 1 : 0);
   if (opt_.out_dir.empty()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
@@ -119,7 +120,11 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
         restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
     thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
     if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
-    if (!append) thermo_ << thermo_csv_header() << '\n';
+    if (!append) {
+      thermo_ << thermo_csv_header();
+      for (const ThermoColumn& c : opt_.columns) thermo_ << ',' << c.name;
+      thermo_ << '\n';
+    }
     const Box& box = start.box;
     const double len[3] = {box.len.x, box.len.y, box.len.z};
     if (s.poiseuille.enabled)
@@ -209,12 +214,15 @@ void Observers::observe(const StepContext& ctx) {
     if (!ctx.pair_sums) throw std::logic_error("Observers: thermo output due but no pair sums were computed");
     // Temperature across a driven flow only: the streaming velocity is not heat.
     const int flow_axis = s.poiseuille.enabled ? s.poiseuille.flow_axis : -1;
-    ThermoState t = compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm);
+    ThermoState t =
+        compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm, frozen_);
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = ctx.neighbor_builds;
+    std::string extra;
+    for (const ThermoColumn& c : opt_.columns) extra += fmt::format(",{:.12g}", c.value(ctx));
     if (comm.root()) {
-      thermo_ << thermo_csv_row(t) << '\n';
+      thermo_ << thermo_csv_row(t) << extra << '\n';
       thermo_.flush();
     }
     temperature_sum_ += t.temperature_transverse;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,11 +32,19 @@ inline constexpr double kTemperatureTolerance = 0.05;
 std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
                                                std::uint64_t samples);
 
+// An extra column of thermo.csv (walls: reflections, penetrations). value() is called on every rank at
+// every thermo row (it may be collective) and its result on the root is written.
+struct ThermoColumn {
+  std::string name;
+  std::function<double(const StepContext&)> value;
+};
+
 struct ObserverSettings {
   std::filesystem::path out_dir;   // empty: no files (thermo, profiles, trajectories are not kept)
   bool progress = false;           // progress bar or log lines on the root
   bool restarted = false;          // continuing from a checkpoint: append to existing files
   std::uint64_t final_step = 0;    // for the progress bar
+  std::vector<ThermoColumn> columns;  // appended to every thermo row, in this order
 };
 
 class Observers final : public Stage {
@@ -82,6 +91,7 @@ class Observers final : public Stage {
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
   std::vector<std::string> warnings_;
+  std::vector<std::uint8_t> frozen_;  // by species: wall particles, left out of the temperature
   // Thermo rows after the midpoint of this run (not of the runs before a restart), for the warning.
   std::uint64_t late_from_ = 0, late_samples_ = 0;
   double late_temperature_sum_ = 0;

@@ -504,6 +504,9 @@ void validate_walls(SimulationSpec& spec) {
   }
   if (!any_mobile) fail("species", "", "every species is frozen: at least one must be a mobile fluid species");
   if (spec.solids.empty()) return;
+  if (spec.poiseuille.enabled)
+    fail("poiseuille", "", "reverse Poiseuille flow is for periodic boxes; between [[solid]] walls drive the flow "
+                           "with [[species]] body_force");
   if (!spec.data_file.empty())
     fail("init.lammps_data", show(spec.data_file),
          "[[solid]] walls are built from a generated fluid; they cannot be combined with a data file yet");

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
+#include "boundary/geometry.hpp"
 #include "core/philox.hpp"
 #include "io/lammps_data_reader.hpp"
 
@@ -125,6 +127,14 @@ MaxwellShift maxwell_shift(const SimulationSpec& spec, std::uint64_t n, ForAll&&
 
 void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, ParticleData& p) {
   for (std::size_t k = 0; k < p.n_local; ++k) {
+    if (p.body[k] > 0) {
+      // A frozen wall particle moves with its solid.
+      const auto& w = spec.solids[static_cast<std::size_t>(p.body[k] - 1)].velocity;
+      p.vx[k] = w[0];
+      p.vy[k] = w[1];
+      p.vz[k] = w[2];
+      continue;
+    }
     double v[3];
     raw_maxwell(spec, p.id[k], p.species[k], v);
     p.vx[k] = (v[0] - shift.u[0]) * shift.scale;
@@ -135,7 +145,7 @@ void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, Partic
 
 }  // namespace
 
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep) {
+std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep) {
   if (!spec.data_file.empty()) {
     const bool has_velocities = load_data_file(spec, box, p);
     if (spec.velocities == VelocityInit::File && !has_velocities)
@@ -144,7 +154,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
                                     spec.data_file));
     if (spec.velocities == VelocityInit::Maxwell) assign_maxwell_velocities(spec, p);
     if (spec.velocities == VelocityInit::Zero) zero_velocities(p);
-    return;
+    return p.n_local;
   }
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
   box.periodic = spec.periodic;
@@ -165,13 +175,17 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
     for (int d = 0; d < 3; ++d) grid[static_cast<std::size_t>(d)] = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(len[d] / spacing - 1e-9)));
     while (grid[0] * grid[1] * grid[2] < lattice_total) ++grid[0];
   }
-  // Visits every particle in id order with (index, id, species, x, y, z); positions are functions of
-  // the id (random placement) or of the lattice site.
+  // Solids: the fluid inside them is frozen near their surface and left out deeper in.
+  std::optional<Geometry> geometry;
+  if (!spec.solids.empty()) geometry.emplace(spec.solids, box);
+  // Visits every particle in id order with (id, species, body, x, y, z); positions are functions of
+  // the draw number (the id when there are no solids) or of the lattice site.
   auto for_each_particle = [&](auto&& f) {
     std::uint64_t i = 0, site = 0;
+    std::uint32_t next_id = 1;  // LAMMPS-style ids start at 1
     for (std::size_t s = 0; s < spec.species.size(); ++s) {
       for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
-        const auto id = static_cast<std::uint32_t>(i + 1);  // LAMMPS-style ids start at 1
+        const auto id = static_cast<std::uint32_t>(i + 1);  // the draw number
         double x, y, z;
         if (spec.species[s].placement == Placement::Lattice) {
           const std::uint64_t gx = site % grid[0], gy = (site / grid[0]) % grid[1], gz = site / (grid[0] * grid[1]);
@@ -185,23 +199,39 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
           y = (static_cast<double>(b.v[1]) / 4294967296.0) * box.len.y;
           z = (static_cast<double>(b.v[2]) / 4294967296.0) * box.len.z;
         }
-        f(id, static_cast<std::int32_t>(s), x, y, z);
+        auto species = static_cast<std::int32_t>(s);
+        std::int32_t body = 0;
+        if (geometry && !spec.species[s].frozen) {
+          int b = -1;
+          const double d = geometry->sdf(Vec3{x, y, z}, b);
+          if (d < 0) {
+            if (d < -spec.walls.depth) continue;  // deep inside: no fluid ever comes near it
+            species = spec.solids[static_cast<std::size_t>(b)].species_index;
+            body = b + 1;
+          }
+        }
+        f(next_id++, species, body, x, y, z);
       }
     }
   };
   std::size_t kept = 0;
-  if (keep)
-    for_each_particle([&](std::uint32_t, std::int32_t, double x, double y, double z) { kept += keep(x, y, z) ? 1 : 0; });
-  else
-    kept = total;
+  std::uint64_t system_total = 0, mobile_total = 0;
+  for_each_particle([&](std::uint32_t, std::int32_t, std::int32_t body, double x, double y, double z) {
+    ++system_total;
+    mobile_total += body == 0 ? 1 : 0;
+    kept += !keep || keep(x, y, z) ? 1 : 0;
+  });
+  if (system_total > std::numeric_limits<std::uint32_t>::max())
+    throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", system_total));
   p.resize(kept);
   p.n_local = kept;
   p.n_ghost = 0;
   std::size_t i = 0;
-  for_each_particle([&](std::uint32_t id, std::int32_t s, double x, double y, double z) {
+  for_each_particle([&](std::uint32_t id, std::int32_t s, std::int32_t body, double x, double y, double z) {
     if (keep && !keep(x, y, z)) return;
     p.id[i] = id;
     p.species[i] = s;
+    p.body[i] = body;
     p.x[i] = x;
     p.y[i] = y;
     p.z[i] = z;
@@ -209,26 +239,29 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
   });
   if (spec.velocities == VelocityInit::Zero) {
     zero_velocities(p);
-    return;
+    return system_total;
   }
   // Maxwell-Boltzmann: the centre-of-mass velocity and the rescaling come from sums over the whole
   // system in id order, so a rank that keeps only its own particles gets the same bits as one rank.
-  const MaxwellShift shift = maxwell_shift(spec, total, [&](auto&& f) {
-    for_each_particle([&](std::uint32_t id, std::int32_t s, double, double, double) { f(id, s); });
+  // Frozen particles take their solid's velocity instead and are left out of the sums.
+  const MaxwellShift shift = maxwell_shift(spec, mobile_total, [&](auto&& f) {
+    for_each_particle([&](std::uint32_t id, std::int32_t s, std::int32_t body, double, double, double) {
+      if (body == 0) f(id, s);
+    });
   });
   apply_maxwell(spec, shift, p);
+  return system_total;
 }
 
 std::uint64_t check_initial_state(const SimulationSpec& spec) {
-  if (spec.data_file.empty()) {
+  if (spec.data_file.empty() && spec.solids.empty()) {
     std::uint64_t n = 0;
     for (const auto& s : spec.species) n += s.count;
     return n;
   }
   Box box;
   ParticleData p;
-  make_initial_state(spec, box, p);
-  return p.n_local;
+  return make_initial_state(spec, box, p);
 }
 
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {

@@ -14,6 +14,7 @@
 
 #include "analysis/observers.hpp"
 #include "boundary/external_fields.hpp"
+#include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
 #include "engine/initial_state.hpp"
 #include "io/byte_buffer.hpp"
@@ -37,7 +38,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     integrator_ = EulerIntegrator{};
   for (const auto& s : spec_.species) {
     mass_.push_back(s.mass);
-    inv_mass_.push_back(1.0 / s.mass);
+    // Frozen wall particles have infinite mass: the integrator leaves their velocity (the wall's) alone.
+    inv_mass_.push_back(s.frozen ? 0.0 : 1.0 / s.mass);
   }
   // External fields act after the pair forces: species body forces, then reverse Poiseuille.
   add_external_fields(spec_, stages_);
@@ -62,9 +64,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     check_box();
     decompose();
     const CellGrid global(box_, range);
-    make_initial_state(spec_, box_, p_, [&](double x, double y, double z) { return halo_.owns(x, y, z, global); });
-    n_total_ = 0;
-    for (const auto& s : spec_.species) n_total_ += s.count;
+    n_total_ = make_initial_state(spec_, box_, p_,
+                                  [&](double x, double y, double z) { return halo_.owns(x, y, z, global); });
   } else {
     // A checkpoint or data file is read whole on every rank, which then keeps its own particles.
     if (restarted)
@@ -84,11 +85,26 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
-  observers_ = &stages_.add(StagePoint::EndOfStep,
-                            std::make_unique<Observers>(spec_,
-                                                        ObserverSettings{options_.out_dir, options_.progress,
-                                                                         restarted, final_step_},
-                                                        context()));
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, {}};
+  if (!spec_.solids.empty()) {
+    // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
+    // velocities are complete, drag samples at the end of each step, and
+    // the reflection and penetration counts as thermo columns.
+    walls_ = std::make_shared<Walls>(spec_, box_, spec_.integrator == IntegratorKind::GrootWarren, step_, final_step_);
+    walls_->set_output(options_.out_dir, restarted, halo_.comm());
+    std::shared_ptr<Walls> w = walls_;
+    stages_.add(StagePoint::AfterFirstHalf, make_stage([w](StepContext& ctx) { w->mirror_positions(ctx); }));
+    stages_.add(StagePoint::AfterSecondHalf, make_stage([w](StepContext& ctx) { w->reflect_velocities(ctx); }));
+    stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->sample_drag(ctx); }));
+    auto counts = std::make_shared<std::array<std::uint64_t, 2>>();
+    observer_settings.columns.push_back({"reflections", [w, counts](const StepContext& ctx) {
+                                           *counts = w->take_counts(ctx.comm);
+                                           return static_cast<double>((*counts)[0]);
+                                         }});
+    observer_settings.columns.push_back(
+        {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
+  }
+  observers_ = &stages_.add(StagePoint::EndOfStep, std::make_unique<Observers>(spec_, std::move(observer_settings), context()));
   if (!pending_observer_state_.empty()) {
     ByteReader r(pending_observer_state_, options_.restart.string());
     observers_->load(r, options_.restart.string());
@@ -243,7 +259,9 @@ ThermoState Simulation::thermo() {
     thermo_forces_[2].swap(p_.fz);
     sums_valid_ = true;
   }
-  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm());
+  std::vector<std::uint8_t> frozen;
+  for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm(), frozen);
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
   t.neighbor_builds = neighbor_builds();
@@ -255,6 +273,10 @@ std::string Simulation::run() {
   std::string summary;
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   if (observers_) summary = observers_->finish(context());
+  if (walls_) {
+    const std::string w = walls_->finish(halo_.comm(), options_.out_dir);
+    if (halo_.comm().root()) summary += w;
+  }
   return summary;
 }
 

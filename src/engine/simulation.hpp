@@ -45,6 +45,7 @@ struct RunOptions {
 };
 
 class Observers;  // measurements and writers (analysis/observers.hpp)
+class Walls;      // reflections and drag at [[solid]] walls (boundary/walls.hpp)
 
 class Simulation {
  public:
@@ -88,6 +89,9 @@ class Simulation {
   // Axis (0, 1, 2) of a driven reverse-Poiseuille flow, or -1: thermo's temperature across the flow.
   int flow_axis() const { return spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1; }
   std::uint64_t final_step() const { return final_step_; }
+  // The walls of a run with [[solid]] blocks (reflection counts, drag), or null.
+  const Walls* walls() const { return walls_.get(); }
+  Walls* walls() { return walls_.get(); }
   const NeighborList& neighbor_list() const { return nlist_; }
   // Neighbour-list builds since step 0, including those before a restart.
   std::uint64_t neighbor_builds() const { return neighbor_builds_before_ + nlist_.builds(); }
@@ -126,6 +130,7 @@ class Simulation {
   bool sums_valid_ = false;
   StageList stages_;                 // owns the stages, the observers among them
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
+  std::shared_ptr<Walls> walls_;     // shared with its two stages
 };
 
 

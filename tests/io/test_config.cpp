@@ -275,7 +275,7 @@ TEST(Config, PeriodicAxes) {
   };
   EXPECT_EQ(parse_config(with("[true, true, true]"), "p.toml").periodic, (std::array<bool, 3>{true, true, true}));
   expect_error(with("[true, true, false]"),
-               {"system.periodic = [true, true, false]", "bounded axis", "walls", "not implemented yet"});
+               {"system.periodic = [true, true, false]", "bounded axis", "[[solid]] walls"});
   expect_error(with("[false, true, true]"), {"system.periodic", "walls"});
   expect_error(with("[true, true]"), {"system.periodic", "expected 3 booleans, got 2"});
   expect_error(with("[true, 1, true]"), {"system.periodic[1]", "boolean"});
