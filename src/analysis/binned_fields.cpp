@@ -202,8 +202,13 @@ SlabFit fit_slab_profile(const std::vector<double>& z, const std::vector<double>
 // Binning
 
 BinnedFields::BinnedFields(const FieldsSpec& spec, std::vector<double> species_mass,
-                           std::vector<std::string> species_names, std::array<double, 3> box_len)
-    : spec_(spec), mass_(std::move(species_mass)), names_(std::move(species_names)), box_len_(box_len) {
+                           std::vector<std::string> species_names, std::array<double, 3> box_len,
+                           std::array<bool, 3> periodic)
+    : spec_(spec),
+      mass_(std::move(species_mass)),
+      names_(std::move(species_names)),
+      box_len_(box_len),
+      periodic_(periodic) {
   n_species_ = mass_.size();
   stride_ = n_species_ + 6;
   n_cells_ = 1;
@@ -354,15 +359,20 @@ std::vector<double> BinnedFields::temperature(int axis) const {
   return out;
 }
 
+double BinnedFields::fit_period() const {
+  // Minimum image only where the profile spans a whole periodic box length.
+  const int axis = profile_axis();
+  if (axis < 0) return 0.0;
+  const auto a = static_cast<std::size_t>(axis);
+  return spec_.region_lo[a] == 0.0 && spec_.region_hi[a] == box_len_[a] && periodic_[a] ? box_len_[a] : 0.0;
+}
+
 SlabFit BinnedFields::slab_fit() const {
   const int axis = profile_axis();
   if (axis < 0 || samples_ == 0) return {};
-  const auto a = static_cast<std::size_t>(axis);
   std::vector<double> z(n_cells_);
-  for (std::size_t c = 0; c < n_cells_; ++c) z[c] = centre(c)[a];
-  // Minimum image only where the profile spans a whole periodic box length.
-  const bool whole = spec_.region_lo[a] == 0.0 && spec_.region_hi[a] == box_len_[a];
-  return fit_slab_profile(z, density(), whole ? box_len_[a] : 0.0);
+  for (std::size_t c = 0; c < n_cells_; ++c) z[c] = centre(c)[static_cast<std::size_t>(axis)];
+  return fit_slab_profile(z, density(), fit_period());
 }
 
 std::string BinnedFields::write(const std::filesystem::path& dir) const {
@@ -438,6 +448,7 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
     f["thickness_10_90"] = json_number(2 * std::atanh(0.8) * fit.width);
     f["rms"] = json_number(fit.rms);
     f["iterations"] = fit.iterations;
+    f["period"] = json_number(fit_period());  // |z - z0| is the minimum image for this period (0: plain)
     j["slab_fit"] = f;
     summary += fmt::format("{}: slab fit{} rho_l = {:.4f}, rho_v = {:.4f}, interface width w = {:.4f} (10-90 thickness "
                            "{:.4f}), half-width {:.4f} at {} = {:.4f}\n",
@@ -446,7 +457,32 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
   }
   write_file_atomically(dir / (name + ".json"), [&](std::ostream& os) { os << j.dump(2) << '\n'; });
 
-  // A picture of a 1-D profile (maps of 2-D grids: tools/plot_fields.py).
+  // Pictures: maps of a 2-D grid (density and the two in-plane velocity components), the profile of a
+  // 1-D grid; PNG maps with streamlines, and 3-D grids, are drawn by tools/plot_fields.py.
+  int plane[2] = {-1, -1}, in_plane = 0;
+  for (int d = 0; d < 3; ++d)
+    if (spec_.bins[static_cast<std::size_t>(d)] > 1 && in_plane < 2) plane[in_plane++] = d;
+  if (in_plane == 2 && plane[0] >= 0 && spec_.bins[static_cast<std::size_t>(3 - plane[0] - plane[1])] == 1) {
+    const auto a = static_cast<std::size_t>(plane[0]), b = static_cast<std::size_t>(plane[1]);
+    SvgGrid g;
+    g.nx = static_cast<std::size_t>(spec_.bins[a]);
+    g.ny = static_cast<std::size_t>(spec_.bins[b]);
+    g.x0 = spec_.region_lo[a];
+    g.x1 = spec_.region_hi[a];
+    g.y0 = spec_.region_lo[b];
+    g.y1 = spec_.region_hi[b];
+    // Cells are stored x fastest, then y, then z; with one bin along the third axis, a is fastest.
+    const std::string note = fmt::format("{} samples, steps {} to {}; grey: no particles", samples_, first_step_, last_step_);
+    g.values = rho;
+    write_svg_map((dir / (name + "_density.svg")).string(), fmt::format("Number density ({})", name), kAxisNames[a],
+                  kAxisNames[b], g, "density", {note});
+    for (std::size_t d : {a, b}) {
+      g.values = v[d];
+      write_svg_map((dir / fmt::format("{}_v{}.svg", name, kAxisNames[d])).string(),
+                    fmt::format("Velocity v_{} ({})", kAxisNames[d], name), kAxisNames[a], kAxisNames[b], g,
+                    fmt::format("v_{}", kAxisNames[d]), {note});
+    }
+  }
   if (axis >= 0) {
     std::vector<double> z(n_cells_);
     for (std::size_t c = 0; c < n_cells_; ++c) z[c] = centre(c)[static_cast<std::size_t>(axis)];
@@ -457,9 +493,7 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
     if (spec_.fit == FieldsFit::Slab) {
       std::vector<double> model(n_cells_);
       const double p[5] = {fit.rho_l, fit.rho_v, fit.z0, fit.half_width, fit.width};
-      const auto a = static_cast<std::size_t>(axis);
-      const bool whole = spec_.region_lo[a] == 0.0 && spec_.region_hi[a] == box_len_[a];
-      const SlabModel m{whole ? box_len_[a] : 0.0};
+      const SlabModel m{fit_period()};
       for (std::size_t c = 0; c < n_cells_; ++c) model[c] = m.eval(p, z[c], nullptr);
       series.push_back({z, model, {}, "tanh fit", "#d62728", true, false});
       notes.push_back(fmt::format("rho_l = {:.4f}, rho_v = {:.4f}, w = {:.4f}, h = {:.4f}", fit.rho_l, fit.rho_v,

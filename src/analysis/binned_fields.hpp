@@ -57,9 +57,9 @@ class BinnedFields {
  public:
   static constexpr double kFixedScale = 4294967296.0;  // 2^32 fixed-point units per unit of m v, m v^2
 
-  // `box_len`: the box; species_mass by species index; species_names label the output.
+  // `box_len`, `periodic`: the box; species_mass by species index; species_names label the output.
   BinnedFields(const FieldsSpec& spec, std::vector<double> species_mass, std::vector<std::string> species_names,
-               std::array<double, 3> box_len);
+               std::array<double, 3> box_len, std::array<bool, 3> periodic = {true, true, true});
 
   // Collective under MPI: bins this rank's n_local particles, sums over ranks and adds the sample.
   void sample(const ParticleData& own, const Comm& comm, std::uint64_t step);
@@ -83,6 +83,9 @@ class BinnedFields {
   // (atomically, each file). Returns one summary line per result worth printing.
   std::string write(const std::filesystem::path& dir) const;
   SlabFit slab_fit() const;  // fit of the 1-D density profile (spec.fit == Slab)
+  // The period of the minimum image in the slab fit: the box length where a 1-D profile spans a whole
+  // periodic axis, else 0.
+  double fit_period() const;
 
   // Running totals for checkpoints; load() refuses state recorded for another grid.
   void save(ByteWriter& w) const;
@@ -97,6 +100,7 @@ class BinnedFields {
   std::vector<double> mass_;
   std::vector<std::string> names_;
   std::array<double, 3> box_len_;
+  std::array<bool, 3> periodic_;
   std::array<double, 3> inv_width_{};
   std::vector<char> selected_;  // by species index
   std::size_t n_species_ = 0, stride_ = 0, n_cells_ = 0;

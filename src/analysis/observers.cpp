@@ -114,7 +114,8 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
   std::vector<std::string> names;
   for (const SpeciesSpec& sp : s.species) names.push_back(sp.name);
   for (const FieldsSpec& f : s.fields)
-    fields_.emplace_back(f, start.species_mass, names, std::array<double, 3>{start.box.len.x, start.box.len.y, start.box.len.z});
+    fields_.emplace_back(f, start.species_mass, names, std::array<double, 3>{start.box.len.x, start.box.len.y, start.box.len.z},
+                         start.box.periodic);
   // Files belong to the root; an error there stops every rank.
   comm.on_root([&] {
     std::filesystem::create_directories(opt_.out_dir);

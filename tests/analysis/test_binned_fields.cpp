@@ -290,6 +290,8 @@ TEST(BinnedFields, VtiFileHoldsTheGridAndTheArrays) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
   EXPECT_TRUE(fs::exists(dir / "map.json"));
   EXPECT_FALSE(fs::exists(dir / "map_profile.svg")) << "only 1-D grids get a profile plot";
+  for (const char* svg : {"map_density.svg", "map_vx.svg", "map_vz.svg"}) EXPECT_TRUE(fs::exists(dir / svg)) << svg;
+  EXPECT_FALSE(fs::exists(dir / "map_vy.svg")) << "only the in-plane components are drawn";
 }
 
 TEST(BinnedFields, CheckpointStateRoundTripsAndRefusesAnotherGrid) {
