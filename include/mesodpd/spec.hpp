@@ -160,9 +160,8 @@ struct WallsSpec {
   std::uint64_t drag_start = 0;                            // [walls] drag_start: steps before drag sampling
   std::uint64_t drag_every = 1;                            // [walls] drag_every
   int drag_blocks = 10;                                    // [walls] drag_blocks: blocks for the error bar
-  std::array<double, 3> reference_velocity{0, 0, 0};       // [walls] reference_velocity: v of C_D, Re
-  double reference_length = 0.0;                          // [walls] reference_length: d of C_D, Re (0: none)
-  double reference_area = 0.0;                             // [walls] reference_area: A of C_D (0: d x box)
+  double reference_length = 0.0;                          // [walls] reference_length: d of Re (0: none)
+  double reference_area = 0.0;                             // [walls] reference_area: A of C_D (0: none)
   double viscosity = 0.0;                                  // [walls] viscosity: mu of Re (0: none)
 };
 
@@ -200,12 +199,9 @@ struct SimulationSpec {
   PoiseuilleSpec poiseuille;                    // [poiseuille]
   RdfSpec rdf;                                  // [analysis.rdf]
   MsdSpec msd;                                  // [analysis.msd]
-<<<<<<< HEAD
   std::vector<SolidSpec> solids;                // [[solid]]
   WallsSpec walls;                              // [walls]
-=======
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
->>>>>>> main
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -561,7 +561,6 @@ void validate_walls(SimulationSpec& spec) {
   check("walls.depth", w.depth, kNonNegative);
   check_at_least("walls.drag_every", w.drag_every, 1);
   check_at_least("walls.drag_blocks", w.drag_blocks, 2);
-  check("walls.reference_velocity", w.reference_velocity, kFinite);
   check("walls.reference_length", w.reference_length, kNonNegative);
   check("walls.reference_area", w.reference_area, kNonNegative);
   check("walls.viscosity", w.viscosity, kNonNegative);
@@ -678,11 +677,7 @@ using Section = void (*)(SimulationSpec&);
 constexpr Section kSections[] = {
     validate_system, validate_init,   validate_species,    validate_pairs,    validate_integrator,
     validate_run,    validate_neighbor, validate_parallel, validate_output,   validate_poiseuille,
-<<<<<<< HEAD
-    validate_analysis, validate_walls,    validate_engine_limits,
-=======
-    validate_analysis, validate_fields, validate_engine_limits,
->>>>>>> main
+    validate_analysis, validate_fields, validate_walls, validate_engine_limits,
 };
 
 }  // namespace

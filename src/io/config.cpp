@@ -504,7 +504,6 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
   read_int(*s, "blocks", p.blocks);
 }
 
-<<<<<<< HEAD
 // One shape table: a [[solid]] block or an element of its `parts`. Keys that the shape does not use
 // are refused, so a cylinder's `radius` written under a plane is not silently ignored.
 ShapeSpec read_shape(const Section& s, const fs::path& base_dir) {
@@ -576,7 +575,7 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
     spec.solids.push_back(std::move(solid));
   }
   const auto w = top.table("walls", {"reflection", "layer", "depth", "drag_start", "drag_every", "drag_blocks",
-                                     "reference_velocity", "reference_length", "reference_area", "viscosity"});
+                                     "reference_length", "reference_area", "viscosity"});
   if (!w) return;
   WallsSpec& ws = spec.walls;
   ws.reflection = w->choice<ReflectionKind>("reflection", {{"none", ReflectionKind::None},
@@ -589,11 +588,11 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
   read_uint(*w, "drag_start", ws.drag_start);
   read_uint(*w, "drag_every", ws.drag_every);
   read_int(*w, "drag_blocks", ws.drag_blocks);
-  ws.reference_velocity = w->vec3("reference_velocity").value_or(std::array<double, 3>{0, 0, 0});
   read_real(*w, "reference_length", ws.reference_length);
   read_real(*w, "reference_area", ws.reference_area);
   read_real(*w, "viscosity", ws.viscosity);
-=======
+}
+
 void read_fields(const Section& f, SimulationSpec& spec) {
   FieldsSpec& out = spec.fields.emplace_back();
   if (auto name = f.string("name")) out.name = std::move(*name);
@@ -613,7 +612,6 @@ void read_fields(const Section& f, SimulationSpec& spec) {
   if (auto ex = f.strings("exclude")) out.exclude = std::move(*ex);
   out.centre_axis = f.choice<int>("centre", {{"none", -1}, {"x", 0}, {"y", 1}, {"z", 2}}).value_or(-1);
   out.fit = f.choice<FieldsFit>("fit", {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}).value_or(FieldsFit::None);
->>>>>>> main
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
