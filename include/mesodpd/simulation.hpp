@@ -99,6 +99,18 @@ struct Msd {
   double diffusion = 0;  // NaN when too few points
 };
 
+// One [analysis.fields] grid averaged so far (analysis/binned_fields.hpp). Per-cell arrays have
+// bins[0] x bins[1] x bins[2] entries, x fastest.
+struct Fields {
+  std::string name;
+  std::array<int, 3> bins{1, 1, 1};
+  std::uint64_t samples = 0;
+  std::vector<double> x, y, z;          // cell centres (box coordinates)
+  std::vector<double> density;          // selected species, particles per volume
+  std::vector<double> vx, vy, vz;       // mass-weighted mean velocity
+  std::vector<double> temperature;      // mean of the three components' temperatures
+};
+
 class Simulation {
  public:
   // Validates `spec` (validate(); throws SpecError naming the key) and builds the initial state with
@@ -144,6 +156,8 @@ class Simulation {
   std::optional<Profile> profile() const;
   std::optional<Rdf> rdf() const;
   std::optional<Msd> msd() const;
+  // The [analysis.fields] grids, in spec order (empty without them or without measurement).
+  std::vector<Fields> fields() const;
 
  private:
   struct Impl;

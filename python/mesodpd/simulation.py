@@ -242,6 +242,21 @@ class Simulation:
         (D from the slope; NaN with too few points); None if not configured."""
         return self._core.msd()
 
+    def fields(self):
+        """The [analysis.fields] grids averaged so far: a dict name -> dict with bins (nx, ny, nz), samples,
+        and arrays of shape (nx, ny, nz): x, y, z (cell centres), density (selected species, per volume),
+        vx, vy, vz (mass-weighted velocity), temperature (mean of the three components). The arrays are
+        empty before the first sample. Same on every rank."""
+        out = {}
+        for f in self._core.fields():
+            nx, ny, nz = f["bins"]
+            for k in ("x", "y", "z", "density", "vx", "vy", "vz", "temperature"):
+                if len(f[k]):
+                    f[k] = f[k].reshape(nz, ny, nx).transpose(2, 1, 0)
+            f["bins"] = (nx, ny, nz)
+            out[f["name"]] = f
+        return out
+
     def numbers(self):
         """Dimensionless numbers of this run's spec (see Spec.numbers())."""
         return self._core.spec().flow_numbers()

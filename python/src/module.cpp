@@ -387,6 +387,26 @@ PYBIND11_MODULE(_core, m) {
              d["samples"] = g->samples;
              return d;
            })
+      .def("fields",
+           [](const PySimulation& s) {
+             py::list out;
+             for (const api::Fields& f : s.sim.fields()) {
+               py::dict d;
+               d["name"] = f.name;
+               d["bins"] = f.bins;
+               d["samples"] = f.samples;
+               d["x"] = copy(f.x);
+               d["y"] = copy(f.y);
+               d["z"] = copy(f.z);
+               d["density"] = copy(f.density);
+               d["vx"] = copy(f.vx);
+               d["vy"] = copy(f.vy);
+               d["vz"] = copy(f.vz);
+               d["temperature"] = copy(f.temperature);
+               out.append(d);
+             }
+             return out;
+           })
       .def("msd", [](const PySimulation& s) -> py::object {
         const auto g = s.sim.msd();
         if (!g) return py::none();

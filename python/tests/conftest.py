@@ -53,6 +53,11 @@ every = 10
 
 [analysis.msd]
 every = 10
+
+[analysis.fields]
+name = "layers"
+bins = [1, 1, 8]
+every = 10
 """
 
 

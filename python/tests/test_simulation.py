@@ -123,6 +123,10 @@ def test_thermo_history_and_analyses_as_arrays():
     assert g["g"][0] < 0.2 and abs(g["g"][-5:].mean() - 1) < 0.1  # excluded core, flat far away
     m = sim.msd()
     assert m["time"][0] == 0 and np.all(np.diff(m["msd"]) > 0)
+    f = sim.fields()["layers"]
+    assert f["bins"] == (1, 1, 8) and f["samples"] == 7 and f["density"].shape == (1, 1, 8)
+    assert f["density"].mean() == pytest.approx(3.0, rel=1e-12)  # every particle in some layer
+    assert np.allclose(f["z"][0, 0], np.arange(8) + 0.5)
     none = mesodpd.Simulation.from_string(SMALL, record=False)
     none.advance(10)
     assert len(none.thermo_history()["step"]) == 0 and none.rdf() is None

@@ -116,3 +116,11 @@ def test_dimensionless_numbers_and_warnings():
     w = spec.numbers()["warnings"]
     assert any("Mach" in x for x in w) and any("integrator.dt" in x for x in w)
     assert "warning: " in spec.check()
+
+
+def test_command_line_check_prints_the_same_numbers(small_toml, mesodpd_bin):
+    import subprocess
+    r = subprocess.run([mesodpd_bin, "check", str(small_toml)], capture_output=True, text=True)
+    assert r.returncode == 0
+    assert mesodpd.Spec.from_toml(small_toml).numbers()["text"] in r.stdout
+    assert "Reynolds" in r.stdout and "Mach" in r.stdout and "Schmidt" in r.stdout

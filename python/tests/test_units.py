@@ -94,3 +94,14 @@ def test_bad_inputs_name_the_input():
         units.map(molar_mass=18e-3, mass_density=1000, inverse_compressibility=16, viscosity=-1)
     with pytest.raises(ValueError, match="unknown input 'visc'"):
         units.map(visc=1)
+
+
+def test_command_line_units_uses_the_same_mapper(mesodpd_bin):
+    import subprocess
+    r = subprocess.run([mesodpd_bin, "units", "--water", "--nm", "3", "--to-si", "viscosity=0.86"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout == units.water(coarse_graining=3).text() + \
+        f"viscosity = 0.86 (DPD) = {units.water(coarse_graining=3).to_si(0.86, 'viscosity'):.6g} Pa s\n"
+    bad = subprocess.run([mesodpd_bin, "units", "--nm", "0.5"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "coarse_graining" in bad.stderr

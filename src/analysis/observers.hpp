@@ -1,5 +1,5 @@
 // Everything that watches a run, as one EndOfStep stage: thermo output, velocity profile and
-// viscosity, RDF, MSD, trajectory frames and progress; their running averages go into checkpoints.
+// viscosity, RDF, MSD, binned fields, trajectory frames and progress; their running averages go into checkpoints.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/binned_fields.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
 #include "analysis/thermo.hpp"
@@ -74,6 +75,8 @@ class Observers final : public Stage {
   const PoiseuilleProfile* profile() const { return profile_ ? &*profile_ : nullptr; }
   const RadialDistribution* rdf() const { return rdf_ ? &*rdf_ : nullptr; }
   const MeanSquaredDisplacement* msd() const { return msd_ ? &*msd_ : nullptr; }
+  // The [analysis.fields] grids (the same totals on every rank).
+  const std::vector<BinnedFields>& fields() const { return fields_; }
 
  private:
   bool files() const { return !opt_.out_dir.empty(); }
@@ -88,6 +91,7 @@ class Observers final : public Stage {
   std::optional<PoiseuilleProfile> profile_;
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;
+  std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

@@ -202,6 +202,31 @@ std::optional<Rdf> Simulation::rdf() const {
       });
 }
 
+std::vector<Fields> Simulation::fields() const {
+  std::vector<Fields> out;
+  for (const BinnedFields& b : impl_->engine.observers().fields()) {
+    Fields f;
+    f.name = b.spec().name;
+    f.bins = b.spec().bins;
+    f.samples = b.samples();
+    for (std::size_t c = 0; c < b.cells(); ++c) {
+      const std::array<double, 3> r = b.centre(c);
+      f.x.push_back(r[0]);
+      f.y.push_back(r[1]);
+      f.z.push_back(r[2]);
+    }
+    if (b.samples() > 0) {
+      f.density = b.density();
+      f.vx = b.velocity(0);
+      f.vy = b.velocity(1);
+      f.vz = b.velocity(2);
+      f.temperature = b.temperature(-1);
+    }
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
 std::optional<Msd> Simulation::msd() const {
   const Observers& o = impl_->engine.observers();
   return from_root<Msd>(
