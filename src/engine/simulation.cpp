@@ -85,7 +85,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, {}};
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record};
   if (!spec_.solids.empty()) {
     // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
     // velocities are complete, drag samples at the end of each step, and
@@ -270,6 +270,10 @@ ThermoState Simulation::thermo() {
 
 std::string Simulation::run() {
   while (step_ < final_step_) step();
+  return finish();
+}
+
+std::string Simulation::finish() {
   std::string summary;
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   if (observers_) summary = observers_->finish(context());
