@@ -147,8 +147,24 @@ def test_plot_helpers_draw(tmp_path):
     sim.run()
     from mesodpd import plot
     for fn, name in ((plot.velocity_profile, "v.png"), (plot.thermo, "t.png"), (plot.rdf, "g.png"),
-                     (plot.msd, "m.png")):
+                     (plot.msd, "m.png"), (plot.fields, "f.png")):
         fig = fn(sim, path=tmp_path / name)
         assert (tmp_path / name).stat().st_size > 1000
         import matplotlib.pyplot as plt
         plt.close(fig)
+
+
+def test_a_2d_field_map_is_drawn(tmp_path):
+    pytest.importorskip("matplotlib")
+    spec = mesodpd.Spec.from_string(SMALL)
+    spec["analysis"]["fields"] = {"name": "map", "bins": [6, 1, 8], "every": 5}
+    sim = mesodpd.Simulation(spec)
+    sim.step(20)
+    f = sim.fields()["map"]
+    assert f["density"].shape == (6, 1, 8) and f["samples"] == 5
+    # Centres: x varies along the first index, z along the last.
+    assert np.allclose(f["x"][:, 0, 0], np.arange(6) + 0.5) and np.allclose(f["z"][0, 0, :], np.arange(8) + 0.5)
+    from mesodpd import plot
+    import matplotlib.pyplot as plt
+    plt.close(plot.fields(sim, quantity="vx", path=tmp_path / "map.png"))
+    assert (tmp_path / "map.png").stat().st_size > 1000
