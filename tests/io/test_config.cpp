@@ -804,6 +804,8 @@ species = ["A"]
   EXPECT_EQ(two.fields[1].name, "profile");
   EXPECT_EQ(two.fields[1].fit, FieldsFit::Slab);
   EXPECT_EQ(two.fields[0].every, 10u);  // default
+  EXPECT_EQ(two.fields[0].write_every, 0u);
+  EXPECT_EQ(parse_config(minimal_plus("[analysis.fields]\nwrite_every = 500\n"), "test.toml").fields[0].write_every, 500u);
 }
 
 TEST(Config, RejectsBadFields) {
