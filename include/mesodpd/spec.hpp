@@ -120,6 +120,16 @@ struct MsdSpec {
   std::uint64_t start = 0, every = 100;
 };
 
+// Surface tension of planar interfaces normal to `axis` from the pressure tensor of each thermo row at
+// or after `start`: sigma = (L / 2) <P_nn - (P_tt + P_t't')/2> with a block error bar
+// ([analysis.surface_tension]; analysis/surface_tension.hpp).
+struct SurfaceTensionSpec {
+  bool enabled = false;
+  int axis = 2;                 // normal of the interfaces: 0 = x, 1 = y, 2 = z
+  std::uint64_t start = 0;      // first thermo row used (equilibration before it)
+  int blocks = 10;              // blocks of the error bar
+};
+
 struct DumpSpec {
   bool enabled = false;
   DumpFormat format = DumpFormat::Lammps;
@@ -163,6 +173,7 @@ struct SimulationSpec {
   PoiseuilleSpec poiseuille;                    // [poiseuille]
   RdfSpec rdf;                                  // [analysis.rdf]
   MsdSpec msd;                                  // [analysis.msd]
+  SurfaceTensionSpec surface_tension;           // [analysis.surface_tension]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -10,6 +10,7 @@
 
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
+#include "analysis/surface_tension.hpp"
 #include "analysis/velocity_profile.hpp"
 #include "core/stage.hpp"
 #include "io/byte_buffer.hpp"
@@ -73,6 +74,7 @@ class Observers final : public Stage {
   std::optional<PoiseuilleProfile> profile_;
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;
+  std::optional<SurfaceTension> tension_;
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

@@ -383,6 +383,10 @@ void validate_analysis(SimulationSpec& spec) {
     check_at_least("analysis.rdf.every", spec.rdf.every, 1);
   }
   if (spec.msd.enabled) check_at_least("analysis.msd.every", spec.msd.every, 1);
+  if (spec.surface_tension.enabled) {
+    check_between("analysis.surface_tension.axis", spec.surface_tension.axis, 0, 2);
+    check_between("analysis.surface_tension.blocks", spec.surface_tension.blocks, 2, 1000);
+  }
 }
 
 // What the engine refuses at construction on any number of ranks, checked here so that a spec that

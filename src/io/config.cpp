@@ -507,7 +507,7 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "surface_tension"});
   if (const auto rdf = s.table("rdf", {"bins", "rmax", "start", "every"})) {
     spec.rdf.enabled = true;
     read_int(*rdf, "bins", spec.rdf.bins);
@@ -519,6 +519,13 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
     spec.msd.enabled = true;
     read_uint(*msd, "start", spec.msd.start);
     read_uint(*msd, "every", spec.msd.every);
+  }
+  if (const auto st = s.table("surface_tension", {"axis", "start", "blocks"})) {
+    SurfaceTensionSpec& t = spec.surface_tension;
+    t.enabled = true;
+    t.axis = st->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
+    read_uint(*st, "start", t.start);
+    read_int(*st, "blocks", t.blocks);
   }
 }
 
