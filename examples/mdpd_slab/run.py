@@ -96,10 +96,18 @@ def main():
     ap.add_argument("--steps", type=int, default=None, help="override run.steps (default: the configs' 30000)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--kernels", nargs="+", default=["warren", "lucy"])
+    ap.add_argument("--regenerate-data", action="store_true", help="rewrite slab.data (density 6, |z - 15| < 5)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     box = (10.0, 10.0, 30.0)
-    n = write_slab(os.path.join(args.out, "slab.data"), box, 6.0, 5.0, 2003)
+    # The initial slab: slab.data next to the configs (so `mesodpd check` and a plain `mesodpd run` of
+    # warren.toml work), written by write_slab with this seed; --regenerate-data rewrites it.
+    data = os.path.join(HERE, "slab.data")
+    if args.regenerate_data or not os.path.exists(data):
+        write_slab(data, box, 6.0, 5.0, 2003)
+    shutil.copy(data, os.path.join(args.out, "slab.data"))
+    with open(data) as f:
+        n = int(f.read().split("atoms")[0].split()[-1])
     results = {}
     for kernel in args.kernels:
         cfg = os.path.join(args.out, f"{kernel}.toml")
