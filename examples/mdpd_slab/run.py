@@ -5,7 +5,8 @@ densities and the surface tension, plot the density profile and compare with War
     /usr/bin/python3 examples/mdpd_slab/run.py [--mesodpd build/mesodpd] [--out out/mdpd_slab]
                                                [--steps 30000] [--threads 1] [--kernels warren lucy]
 
-Writes, under --out: <kernel>/ (the run: thermo.csv, surface_tension.json, trajectory), profile.png,
+Writes, under --out: <kernel>/ (the run: thermo.csv, surface_tension.json, the density profile of the
+fields module with its tanh fit: profile.json/.csv/_profile.svg), profile.png,
 results.json; prints a table. Exit code 1 if a run fails or the Warren-kernel results leave the
 tolerance given in README.md.
 """
@@ -43,41 +44,12 @@ def write_slab(path, box, rho, half, seed):
     return n
 
 
-def read_frames(path):
-    """LAMMPS dump frames (id x y z) as (step, box lengths, positions)."""
-    frames = []
-    with open(path) as f:
-        lines = f.read().split("\n")
-    k = 0
-    while k < len(lines):
-        if lines[k].startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            n = int(lines[k + 3])
-            lens = [float(lines[k + 5 + d].split()[1]) - float(lines[k + 5 + d].split()[0]) for d in range(3)]
-            cols = lines[k + 8].split()[2:]
-            data = np.array([[float(v) for v in lines[k + 9 + i].split()] for i in range(n)])
-            iz = cols.index("z")
-            frames.append((step, lens, data[:, iz]))
-            k += 9 + n
-        else:
-            k += 1
-    return frames
-
-
-def profile(frames, lz, area, start, dz=0.25):
-    """Density profile about the slab's centre (circular mean of z per frame), per frame."""
-    nb = int(round(lz / dz))
-    edges = np.linspace(-lz / 2, lz / 2, nb + 1)
-    rows = []
-    for step, _, z in frames:
-        if step < start:
-            continue
-        ang = 2 * math.pi * z / lz
-        zc = lz * (math.atan2(np.sin(ang).mean(), np.cos(ang).mean()) / (2 * math.pi))
-        d = (z - zc + lz / 2) % lz - lz / 2
-        h, _ = np.histogram(d, bins=edges)
-        rows.append(h / (area * dz))
-    return 0.5 * (edges[1:] + edges[:-1]), np.array(rows)
+def read_grid(run_dir, name):
+    """A 1-D [analysis.fields] grid along z: json metadata, bin centres z and densities."""
+    with open(os.path.join(run_dir, name + ".json")) as f:
+        meta = json.load(f)
+    data = np.genfromtxt(os.path.join(run_dir, name + ".csv"), delimiter=",", names=True)
+    return meta, data["z"], data["density"]
 
 
 def block_err(x, blocks=10):
@@ -93,9 +65,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--mesodpd", default=os.path.join(ROOT, "build", "mesodpd"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "mdpd_slab"))
-    ap.add_argument("--steps", type=int, default=None, help="override run.steps (default: the configs' 30000)")
+    ap.add_argument("--steps", type=int, default=None, help="override run.steps (default: the configs' 20000)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--kernels", nargs="+", default=["warren", "lucy"])
+    ap.add_argument("--analyse-only", action="store_true", help="only analyse runs already in --out")
     ap.add_argument("--regenerate-data", action="store_true", help="rewrite slab.data (density 6, |z - 15| < 5)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -115,33 +88,47 @@ def main():
         cmd = [args.mesodpd, "run", cfg, "--out", os.path.join(args.out, kernel), "--threads", str(args.threads)]
         if args.steps:
             cmd += ["--steps", str(args.steps)]
-        print("running:", " ".join(cmd), flush=True)
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        sys.stdout.write(r.stdout)
-        sys.stderr.write(r.stderr)
-        if r.returncode != 0:
-            print(f"{kernel}: mesodpd failed with exit code {r.returncode}")
-            return 1
+        if not args.analyse_only:
+            print("running:", " ".join(cmd), flush=True)
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            sys.stdout.write(r.stdout)
+            sys.stderr.write(r.stderr)
+            if r.returncode != 0:
+                print(f"{kernel}: mesodpd failed with exit code {r.returncode}")
+                return 1
         run_dir = os.path.join(args.out, kernel)
         with open(os.path.join(run_dir, "surface_tension.json")) as f:
             st = json.load(f)
+        # The fields module's profile and tanh fit (grid "profile", from step 5000), and block averages
+        # of the central (liquid) and outer (vapour) densities from the differences of the running
+        # means of the grids that start later.
         start = 5000
-        frames = read_frames(os.path.join(run_dir, "trajectory.lammpstrj"))
-        z, rows = profile(frames, box[2], box[0] * box[1], start)
-        mean = rows.mean(axis=0)
-        centre = np.abs(z) < 2.5          # well inside the liquid (half thickness about 5)
-        outside = np.abs(z) > 10.0        # well inside the vapour
-        rho_l_series = rows[:, centre].mean(axis=1)
-        rho_v_series = rows[:, outside].mean(axis=1)
+        meta, z, rho = read_grid(run_dir, "profile")
+        fit = meta["slab_fit"]
+        zc = np.asarray(z) - 0.5 * box[2]           # the grid is centred on the slab (centre = "z")
+        centre, outside = np.abs(zc) < 2.5, np.abs(zc) > 10.0
+        grids = [read_grid(run_dir, g) for g in ("profile", "from_8750", "from_12500", "from_16250")]
+        grids = [g for g in grids if g[0]["samples"] > 0]
+        blocks_l, blocks_v = [], []
+        for k, (m, _, r) in enumerate(grids):
+            n_k = m["samples"]
+            n_next = grids[k + 1][0]["samples"] if k + 1 < len(grids) else 0
+            r_next = grids[k + 1][2] if k + 1 < len(grids) else 0 * r
+            block = (r * n_k - r_next * n_next) / (n_k - n_next)
+            blocks_l.append(block[centre].mean())
+            blocks_v.append(block[outside].mean())
+        rho_l_series, rho_v_series = np.array(blocks_l), np.array(blocks_v)
         thermo = np.genfromtxt(os.path.join(run_dir, "thermo.csv"), delimiter=",", names=True)
         late = thermo["step"] >= start
         results[kernel] = {
-            "rho_liquid": float(rho_l_series.mean()), "rho_liquid_err": block_err(rho_l_series),
-            "rho_vapour": float(rho_v_series.mean()), "rho_vapour_err": block_err(rho_v_series),
+            "rho_liquid": float(rho[centre].mean()), "rho_liquid_err": block_err(rho_l_series, len(rho_l_series)),
+            "rho_vapour": float(rho[outside].mean()), "rho_vapour_err": block_err(rho_v_series, len(rho_v_series)),
+            "fit_rho_l": fit["rho_l"], "fit_rho_v": fit["rho_v"], "fit_width": fit["width"],
+            "fit_half_width": fit["half_width"], "fit_converged": fit["converged"],
             "sigma": st["sigma"], "sigma_err": st["sigma_err"],
             "temperature": float(thermo["temperature"][late].mean()),
-            "frames": int(len(rows)), "particles": n, "steps": int(thermo["step"][-1]),
-            "profile_z": [float(v) for v in z], "profile_rho": [float(v) for v in mean],
+            "profile_samples": int(meta["samples"]), "particles": n, "steps": int(thermo["step"][-1]),
+            "profile_z": [float(v) for v in zc], "profile_rho": [float(v) for v in rho],
         }
     import matplotlib
     matplotlib.use("Agg")
@@ -158,12 +145,14 @@ def main():
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "profile.png"), dpi=120)
     with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump({k: {kk: vv for kk, vv in v.items() if not kk.startswith("profile")} for k, v in results.items()},
+        json.dump({k: {kk: vv for kk, vv in v.items() if kk not in ("profile_z", "profile_rho")}
+                   for k, v in results.items()},
                   f, indent=2)
-    print(f"\n{'kernel':8} {'rho_liquid':>16} {'rho_vapour':>18} {'sigma':>16} {'T':>7}")
+    print(f"\n{'kernel':8} {'rho_liquid':>16} {'tanh rho_l':>10} {'rho_vapour':>18} {'sigma':>16} {'T':>7}")
     for kernel, r in results.items():
-        print(f"{kernel:8} {r['rho_liquid']:8.3f} +- {r['rho_liquid_err']:.3f} {r['rho_vapour']:9.5f} +- "
-              f"{r['rho_vapour_err']:.5f} {r['sigma']:7.3f} +- {r['sigma_err']:.3f} {r['temperature']:7.3f}")
+        print(f"{kernel:8} {r['rho_liquid']:8.3f} +- {r['rho_liquid_err']:.3f} {r['fit_rho_l']:10.3f} "
+              f"{r['rho_vapour']:9.5f} +- {r['rho_vapour_err']:.5f} {r['sigma']:7.3f} +- {r['sigma_err']:.3f} "
+              f"{r['temperature']:7.3f}")
     print(f"Warren (2003), his kernel: rho_liquid ~ {WARREN_RHO_L}, sigma ~ {WARREN_SIGMA}")
     ok = True
     if "warren" in results:
