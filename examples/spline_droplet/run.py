@@ -6,10 +6,10 @@ and report the number of drops, the liquid and gas densities and their ratio, wi
     /usr/bin/python3 examples/spline_droplet/run.py [--mesodpd build/mesodpd] [--out out/spline_droplet]
                                                     [--steps 20000] [--b 0 0.9 1.0 1.05 1.1] [--threads 1]
 
-Clusters: particles closer than 0.75 are linked (friends of friends); a cluster of at least 30
-particles is a drop, particles in clusters of fewer than 5 are gas. Liquid density: particles within
-half the drop's radius R = sqrt(5/3) R_g of its centre, per volume; gas density: gas particles over the
-volume outside the drops. Written: results.json, snapshot_B<B>.png; a table on stdout.
+Liquid particles have at least 15 others within r < 1 (local density > 3.6; the uniform start has 1.5);
+a drop is a connected set (link 1.0) of at least 30 liquid particles; every other particle is gas.
+Liquid density: mean local density of the densest half of the drop particles (the interior); gas
+density: gas particles over the volume outside the drops (drop particles / liquid density). Written: results.json, snapshot_B<B>.png; a table on stdout.
 """
 import argparse
 import json
@@ -39,78 +39,84 @@ def last_frames(path, count):
     return frames[-count:]
 
 
-def clusters(pos, lens, link=0.75):
-    """Friends-of-friends labels (periodic minimum image), by a cell list."""
-    n = len(pos)
-    parent = np.arange(n)
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    ncell = np.maximum((lens // link).astype(int), 1)
+def neighbours(pos, lens, cut):
+    """Pairs (i, j), i < j, closer than `cut` (periodic minimum image), by a cell list."""
+    ncell = np.maximum((lens // cut).astype(int), 1)
     cell = (np.floor(pos / lens * ncell).astype(int)) % ncell
     key = (cell[:, 0] * ncell[1] + cell[:, 1]) * ncell[2] + cell[:, 2]
+    order = np.argsort(key)
+    pairs_i, pairs_j = [], []
     buckets = {}
-    for i, k in enumerate(key):
-        buckets.setdefault(int(k), []).append(i)
-    for i in range(n):
-        ci = cell[i]
+    for idx in order:
+        buckets.setdefault(int(key[idx]), []).append(idx)
+    for k, members in buckets.items():
+        c = np.array([k // (ncell[1] * ncell[2]), (k // ncell[2]) % ncell[1], k % ncell[2]])
+        others = set()
         for dx in (-1, 0, 1):
             for dy in (-1, 0, 1):
                 for dz in (-1, 0, 1):
-                    c = (ci + (dx, dy, dz)) % ncell
-                    for j in buckets.get(int((c[0] * ncell[1] + c[1]) * ncell[2] + c[2]), ()):
-                        if j <= i:
-                            continue
-                        d = pos[i] - pos[j]
-                        d -= lens * np.round(d / lens)
-                        if d @ d < link * link:
-                            ri, rj = find(i), find(j)
-                            if ri != rj:
-                                parent[ri] = rj
-    return np.array([find(i) for i in range(n)])
+                    cc = (c + (dx, dy, dz)) % ncell
+                    others.update(buckets.get(int((cc[0] * ncell[1] + cc[1]) * ncell[2] + cc[2]), ()))
+        a = np.array(members)
+        b = np.array(sorted(others))
+        d = pos[a][:, None, :] - pos[b][None, :, :]
+        d -= lens * np.round(d / lens)
+        close = (d * d).sum(-1) < cut * cut
+        ii, jj = np.nonzero(close)
+        keep = a[ii] < b[jj]
+        pairs_i.append(a[ii][keep])
+        pairs_j.append(b[jj][keep])
+    return np.concatenate(pairs_i), np.concatenate(pairs_j)
 
 
 def analyse(frames):
-    out = {"drops": [], "rho_liquid": [], "rho_gas": [], "gas_fraction": []}
+    """Liquid particles: at least 15 others within r < 1 (local density > 3.6, against 1.5 of the
+    uniform start); drops: connected liquid particles (link 1.0) with at least 30 members."""
+    out = {"drops": [], "rho_liquid": [], "rho_gas": [], "liquid_fraction": []}
     for lens, pos in frames:
-        labels = clusters(pos, lens)
-        _, inverse, sizes = np.unique(labels, return_inverse=True, return_counts=True)
-        size_of = sizes[inverse]
-        drops = [k for k in range(len(sizes)) if sizes[k] >= 30]
+        n = len(pos)
+        i, j = neighbours(pos, lens, 1.0)
+        count = np.bincount(i, minlength=n) + np.bincount(j, minlength=n)
+        liquid = count >= 15
+        parent = np.arange(n)
+
+        def find(k):
+            while parent[k] != k:
+                parent[k] = parent[parent[k]]
+                k = parent[k]
+            return k
+
+        for a, b in zip(i, j):
+            if liquid[a] and liquid[b]:
+                ra, rb = find(a), find(b)
+                if ra != rb:
+                    parent[ra] = rb
+        labels = np.array([find(k) if liquid[k] else -1 for k in range(n)])
+        roots, inverse, sizes = np.unique(labels, return_inverse=True, return_counts=True)
+        drops = [k for k in range(len(roots)) if roots[k] >= 0 and sizes[k] >= 30]
+        local = count / (4.0 / 3.0 * math.pi)
+        in_drop = np.isin(inverse, drops)
+        # The liquid density: the densest half of the drop particles (the interior, not the surface).
+        dens = np.sort(local[in_drop])
+        rho_l = float(dens[len(dens) // 2:].mean()) if len(dens) >= 2 else float("nan")
         volume = float(np.prod(lens))
-        drop_volume, liquid = 0.0, []
-        for k in drops:
-            p = pos[inverse == k]
-            ang = 2 * math.pi * p / lens
-            centre = lens * (np.arctan2(np.sin(ang).mean(0), np.cos(ang).mean(0)) / (2 * math.pi)) % lens
-            d = p - centre
-            d -= lens * np.round(d / lens)
-            r2 = (d * d).sum(1)
-            radius = math.sqrt(5.0 / 3.0 * r2.mean())
-            drop_volume += 4.0 / 3.0 * math.pi * radius ** 3
-            inner = radius / 2
-            if inner > 0.8:
-                liquid.append((r2 < inner * inner).sum() / (4.0 / 3.0 * math.pi * inner ** 3))
-        gas = int((size_of < 5).sum())
+        liquid_volume = in_drop.sum() / rho_l if rho_l == rho_l else 0.0
+        gas = int((~in_drop).sum())
         out["drops"].append(len(drops))
-        out["rho_liquid"].append(float(np.mean(liquid)) if liquid else float("nan"))
-        out["rho_gas"].append(gas / max(volume - drop_volume, 1e-9))
-        out["gas_fraction"].append(gas / len(pos))
-    return out, labels, inverse, sizes
+        out["rho_liquid"].append(rho_l)
+        out["rho_gas"].append(gas / max(volume - liquid_volume, 1e-9))
+        out["liquid_fraction"].append(float(in_drop.mean()))
+    sizes_of = np.where(np.isin(inverse, drops), 1000, 1)  # for the snapshot: drop particles vs gas
+    return out, labels, np.where(np.isin(inverse, drops), inverse, -1), sizes_of
 
 
 def snapshot(path, lens, pos, inverse, sizes, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    size_of = sizes[inverse]
     fig = plt.figure(figsize=(4.8, 4.8))
     ax = fig.add_subplot(projection="3d")
-    drop = size_of >= 30
+    drop = inverse >= 0
     ax.scatter(*pos[~drop].T, s=2, c="#999999", alpha=0.5, depthshade=False)
     ax.scatter(*pos[drop].T, s=4, c=inverse[drop] % 10, cmap="tab10", vmin=0, vmax=9, depthshade=True)
     for d, name in enumerate("xyz"):
@@ -157,7 +163,7 @@ def main():
         results[name] = {
             "B": b, "drops": res["drops"], "rho_liquid": None if math.isnan(rho_l) else float(rho_l),
             "rho_gas": rho_g, "ratio": None if math.isnan(rho_l) or rho_g == 0 else float(rho_l / rho_g),
-            "gas_fraction": float(np.mean(res["gas_fraction"])), "steps": int(thermo["step"][-1]),
+            "liquid_fraction": float(np.mean(res["liquid_fraction"])), "steps": int(thermo["step"][-1]),
             "temperature_late": float(thermo["temperature"][len(thermo) // 2:].mean()),
         }
         snapshot(os.path.join(args.out, f"snapshot_{name}.png"), frames[-1][0], frames[-1][1], inverse, sizes,
