@@ -89,7 +89,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   observers_ = &stages_.add(StagePoint::EndOfStep,
                             std::make_unique<Observers>(spec_,
                                                         ObserverSettings{options_.out_dir, options_.progress,
-                                                                         restarted, final_step_},
+                                                                         restarted, final_step_, options_.record},
                                                         context()));
   if (!pending_observer_state_.empty()) {
     ByteReader r(pending_observer_state_, options_.restart.string());
@@ -290,6 +290,10 @@ ThermoState Simulation::thermo() {
 
 std::string Simulation::run() {
   while (step_ < final_step_) step();
+  return finish();
+}
+
+std::string Simulation::finish() {
   std::string summary;
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   if (observers_) summary = observers_->finish(context());
