@@ -107,7 +107,9 @@ def main():
         fit = meta["slab_fit"]
         zc = np.asarray(z) - 0.5 * box[2]           # the grid is centred on the slab (centre = "z")
         centre, outside = np.abs(zc) < 2.5, np.abs(zc) > 10.0
-        grids = [read_grid(run_dir, g) for g in ("profile", "from_8750", "from_12500", "from_16250")]
+        # A grid without samples (a run shorter than its start) writes no files.
+        grids = [read_grid(run_dir, g) for g in ("profile", "from_8750", "from_12500", "from_16250")
+                 if os.path.exists(os.path.join(run_dir, g + ".json"))]
         grids = [g for g in grids if g[0]["samples"] > 0]
         blocks_l, blocks_v = [], []
         for k, (m, _, r) in enumerate(grids):
