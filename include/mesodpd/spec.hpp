@@ -29,9 +29,13 @@ enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };
 enum class NeighborMethod { Verlet, Cells };
 enum class DumpFormat { Lammps, Gsd };
-// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD, or the soft cosine
-// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat.
-enum class PairStyle { Dpd, Soft };
+// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD; the soft cosine
+// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat; many-body
+// DPD (physics/mdpd_pair.hpp: a = A_ij, b = B_ij, rd = the many-body range r_d, dissipation over rc);
+// Liu's spline potentials (physics/spline_pair.hpp: a = a_ij, repulsion, rc1, attraction, rc2).
+enum class PairStyle { Dpd, Soft, Mdpd, Spline };
+// The local-density kernel of many-body DPD (physics/density_kernel.hpp): Warren's or Lucy's.
+enum class DensityKernelChoice { Warren, Lucy };
 enum class VelocityInit { Maxwell, File, Zero };
 
 struct SpeciesSpec {
@@ -54,6 +58,11 @@ struct PairParams {
   std::optional<double> rc;     // conservative cutoff (default 1)
   std::optional<double> rd;     // dissipative/random cutoff (default: this pair's rc)
   std::optional<double> s;      // weight exponent (default 2)
+  std::optional<double> b;      // many-body repulsion B_ij (pair.style = "mdpd")
+  std::optional<double> repulsion;   // spline: coefficient A of W(r, rc1) (pair.style = "spline")
+  std::optional<double> rc1;         // spline: range of the repulsive spline
+  std::optional<double> attraction;  // spline: coefficient B of W(r, rc2)
+  std::optional<double> rc2;         // spline: range of the attractive spline
 };
 
 enum class Mixing { Explicit, Geometric };
@@ -66,14 +75,32 @@ struct PairOverride {
 // The [pair] table: defaults for every pair, the mixing rule for a_ij and the per-pair overrides.
 struct PairSection {
   Mixing mixing = Mixing::Explicit;
+  std::optional<DensityKernelChoice> kernel;  // [pair] kernel (mdpd only; default "warren")
   PairParams params;
   std::vector<PairOverride> overrides;  // [[pair.override]]
 };
 
 // Fully resolved interaction of one unordered species pair (i <= j), filled by validate().
+// With pair.style = "mdpd", rd is the many-body range r_d (seed 000 Eq. 17) and the dissipative and
+// random forces act over rc; b is B_ij. With "spline", repulsion/rc1/attraction/rc2 are A, r_c1, B, r_c2
+// of seed 000 Eq. 19 (per pair: a pair may override them).
 struct PairSpec {
   int i = 0, j = 0;
   double a = 25.0, gamma = 4.5, rc = 1.0, rd = 1.0, s = 2.0;
+  double b = 0.0;
+  double repulsion = 0.0, rc1 = 1.0, attraction = 0.0, rc2 = 1.0;
+
+  // The distance beyond which this pair does not interact under `style`.
+  double range(PairStyle style) const {
+    const auto mx = [](double x, double y) { return x > y ? x : y; };
+    switch (style) {
+      case PairStyle::Soft: return rc;
+      case PairStyle::Mdpd: return rc;  // r_d <= r_c (validated); dissipation over rc
+      case PairStyle::Spline: return mx(mx(rc1, rc2), rd);
+      case PairStyle::Dpd: break;
+    }
+    return mx(rc, rd);
+  }
 };
 
 // Reverse (periodic) Poiseuille flow of Backer et al. (seed 002 "Boundary Conditions"):
@@ -119,6 +146,16 @@ struct FieldsSpec {
   FieldsFit fit = FieldsFit::None;            // "slab": tanh fit of a 1-D density profile
   int blocks = 10;                            // blocks for the slab fit's error bars (B..2B-1 used)
   std::uint64_t write_every = 0;              // also write the files at these steps (0: at the end only)
+};
+
+// Surface tension of planar interfaces normal to `axis` from the pressure tensor of each thermo row at
+// or after `start`: sigma = (L / 2) <P_nn - (P_tt + P_t't')/2> with a block error bar
+// ([analysis.surface_tension]; analysis/surface_tension.hpp).
+struct SurfaceTensionSpec {
+  bool enabled = false;
+  int axis = 2;                 // normal of the interfaces: 0 = x, 1 = y, 2 = z
+  std::uint64_t start = 0;      // first thermo row used (equilibration before it)
+  int blocks = 10;              // blocks of the error bar
 };
 
 struct DumpSpec {
@@ -195,6 +232,7 @@ struct SimulationSpec {
   NoiseDistribution noise = NoiseDistribution::Uniform;  // [run] noise
   std::uint64_t steps = 1000;                   // [run] steps
   double max_velocity = 1.0e3;                  // [run] max_velocity: blow-up threshold on |v|
+  double max_density = 100.0;                   // [run] max_density: blow-up threshold on the local density (mdpd)
   int threads = 0;                              // [run] threads (0 = OpenMP default)
 
   NeighborMethod neighbor = NeighborMethod::Cells;  // [neighbor] method
@@ -211,6 +249,7 @@ struct SimulationSpec {
   std::vector<SolidSpec> solids;                // [[solid]]
   WallsSpec walls;                              // [walls]
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
+  SurfaceTensionSpec surface_tension;           // [analysis.surface_tension]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -141,6 +141,9 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
                        s.poiseuille.force, mass / box.volume());
     if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
     if (s.msd.enabled) msd_.emplace();
+    if (s.surface_tension.enabled)
+      tension_.emplace(s.surface_tension.axis, len[s.surface_tension.axis],
+                       static_cast<std::size_t>(s.surface_tension.blocks));
     if (s.dump.enabled && files()) {
       const bool gsd = s.dump.format == DumpFormat::Gsd;
       const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
@@ -190,6 +193,7 @@ void Observers::save(ByteWriter& w) const {
     w.put_string(f.spec().name);
     w.put_vector(section.bytes());
   }
+  save_section(w, tension_);
 }
 
 void Observers::load(ByteReader& r, const std::string& context) {
@@ -210,6 +214,8 @@ void Observers::load(ByteReader& r, const std::string& context) {
         f.load(section, context);
       }
   }
+  if (r.remaining() == 0) return;  // a checkpoint from before the surface tension existed
+  load_section(r, tension_, context);
 }
 
 void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
@@ -261,6 +267,7 @@ void Observers::observe(const StepContext& ctx) {
     }
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
+    if (tension_ && step >= s.surface_tension.start) tension_->add(t.p_tensor);
   }
   // The velocity profile is summed in integers, so each rank bins its own particles. The other
   // analyses see the whole system in id order (gathered on the root under MPI), so their sums are
@@ -393,6 +400,12 @@ std::string Observers::finish(const StepContext& ctx) {
     if (files()) summary += f.write(opt_.out_dir);
   }
   if (files() && rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
+  if (tension_ && tension_->samples() > 0) {
+    if (files()) tension_->write_json(out("surface_tension.json").string());
+    const BlockMean b = tension_->result();
+    summary += fmt::format("surface tension sigma = {:.4f} +- {:.4f} ({} thermo rows in {} blocks, normal {})\n", b.mean,
+                           b.err, b.samples, b.blocks, "xyz"[s.surface_tension.axis]);
+  }
   if (msd_ && msd_->size() > 2) {
     if (files()) msd_->write_csv(out("msd.csv").string());
     summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());

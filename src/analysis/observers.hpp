@@ -12,6 +12,7 @@
 #include "analysis/binned_fields.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
+#include "analysis/surface_tension.hpp"
 #include "analysis/thermo.hpp"
 #include "analysis/velocity_profile.hpp"
 #include "core/stage.hpp"
@@ -101,6 +102,7 @@ class Observers final : public Stage {
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;
   std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
+  std::optional<SurfaceTension> tension_;
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

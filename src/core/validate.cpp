@@ -94,7 +94,7 @@ std::string species_key(std::size_t k, std::string_view field) { return fmt::for
 // The largest interaction range of any pair (the pairs are resolved by then).
 double largest_cutoff(const SimulationSpec& spec) {
   double cutoff = 0.0;
-  for (const PairSpec& p : spec.pairs) cutoff = std::max({cutoff, p.rc, p.rd});
+  for (const PairSpec& p : spec.pairs) cutoff = std::max(cutoff, p.range(spec.pair_style));
   return cutoff;
 }
 
@@ -175,19 +175,44 @@ void validate_species(SimulationSpec& spec) {
   }
 }
 
-void validate_pair_params(const std::string& prefix, const PairParams& p) {
-  check(prefix + ".a", p.a, kNonNegative);
+void validate_pair_params(const std::string& prefix, const PairParams& p, PairStyle style) {
+  // Many-body DPD's A_ij is attractive (negative) in Warren's liquid; every other law repels with a >= 0.
+  check(prefix + ".a", p.a, style == PairStyle::Mdpd ? kFinite : kNonNegative);
   check(prefix + ".gamma", p.gamma, kNonNegative);
   check(prefix + ".sigma", p.sigma, kNonNegative);
   check(prefix + ".rc", p.rc, kCutoff);
   check(prefix + ".rd", p.rd, kCutoff);
   check(prefix + ".s", p.s, kCutoff);
+  check(prefix + ".b", p.b, kNonNegative);
+  check(prefix + ".repulsion", p.repulsion, kNonNegative);
+  check(prefix + ".attraction", p.attraction, kNonNegative);
+  check(prefix + ".rc1", p.rc1, kCutoff);
+  check(prefix + ".rc2", p.rc2, kCutoff);
+  // Keys the style does not read would be silently ignored: refuse them.
+  const char* style_name = style == PairStyle::Dpd ? "dpd" : style == PairStyle::Soft ? "soft"
+                           : style == PairStyle::Mdpd ? "mdpd" : "spline";
+  const auto refuse = [&](const char* name, const std::optional<double>& v, const char* used_by) {
+    if (v)
+      fail(prefix + "." + name, show(*v),
+           fmt::format("not used with pair.style = \"{}\" (only with pair.style = \"{}\")", style_name, used_by));
+  };
+  if (style != PairStyle::Mdpd) refuse("b", p.b, "mdpd");
+  if (style != PairStyle::Spline)
+    for (const auto& [name, value] : {std::pair{"repulsion", p.repulsion}, {"rc1", p.rc1}, {"attraction", p.attraction},
+                                      {"rc2", p.rc2}})
+      refuse(name, value, "spline");
 }
 
 // Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
 void validate_pairs(SimulationSpec& spec) {
   const PairSection& sec = spec.pair_section;
-  validate_pair_params("pair", sec.params);
+  validate_pair_params("pair", sec.params, spec.pair_style);
+  if (sec.kernel && spec.pair_style != PairStyle::Mdpd)
+    fail("pair.kernel", *sec.kernel == DensityKernelChoice::Warren ? "\"warren\"" : "\"lucy\"",
+         "only used with pair.style = \"mdpd\" (the local-density kernel of many-body DPD)");
+  if (spec.pair_style == PairStyle::Mdpd && sec.mixing == Mixing::Geometric)
+    fail("pair.mixing", "\"geometric\"",
+         "not available with pair.style = \"mdpd\" (A_ij is usually negative); set pair.a and [[pair.override]]");
   if (spec.pair_style == PairStyle::Soft) {
     // The soft law reads a (its amplitude A) and rc only: a thermostat key would be silently ignored.
     auto refuse_thermostat_keys = [](const std::string& prefix, const PairParams& p) {
@@ -223,7 +248,7 @@ void validate_pairs(SimulationSpec& spec) {
     std::size_t& slot = override_of[std::min(id[0], id[1]) * n + std::max(id[0], id[1])];
     if (slot != kNone) fail(key + ".species", show(o.species), fmt::format("this pair is already set by pair.override[{}]", slot));
     slot = k;
-    validate_pair_params(key, o.params);
+    validate_pair_params(key, o.params, spec.pair_style);
   }
 
   spec.pairs.clear();
@@ -249,6 +274,43 @@ void validate_pairs(SimulationSpec& spec) {
       p.rc = pick(&PairParams::rc).value_or(1.0);
       p.rd = pick(&PairParams::rd).value_or(p.rc);  // rd follows this pair's rc unless set
       p.s = pick(&PairParams::s).value_or(2.0);
+      // The key a resolved value came from (the override's when it sets it), for messages.
+      const auto key_of = [&](std::optional<double> PairParams::*member, const char* name) {
+        return (ov && (ov->*member) ? ov_key : std::string("pair")) + "." + name;
+      };
+      const std::string pair_names = fmt::format("species pair ({}, {})", names[i], names[j]);
+      // A value the style needs that neither the override nor [pair] gives.
+      const auto required = [&](std::optional<double> PairParams::*member, const char* name, const char* what) {
+        const auto v = pick(member);
+        if (!v)
+          fail(k != kNone ? ov_key + "." + name : std::string("pair.") + name, "",
+               fmt::format("missing for {}: pair.style = \"{}\" needs {} (no default)", pair_names,
+                           spec.pair_style == PairStyle::Mdpd ? "mdpd" : "spline", what));
+        return *v;
+      };
+      if (spec.pair_style == PairStyle::Mdpd) {
+        // seed 000 Eq. 17: A_ij, B_ij and the many-body range r_d are physics choices without a neutral value.
+        p.a = required(&PairParams::a, "a", "A_ij (Warren's liquid: a = -40)");
+        p.b = required(&PairParams::b, "b", "B_ij (Warren's liquid: b = 25)");
+        p.rd = required(&PairParams::rd, "rd", "the many-body range r_d (Warren: rd = 0.75)");
+        if (p.rd > p.rc)
+          fail(key_of(&PairParams::rd, "rd"), show(p.rd),
+               fmt::format("the many-body range r_d must not exceed rc = {} for {} (seed 000 Eq. 17)", p.rc, pair_names));
+        if (p.a < 0 && p.b == 0)
+          fail(key_of(&PairParams::b, "b"), show(p.b),
+               fmt::format("with a = {} < 0 and no density-dependent repulsion the fluid of {} collapses; "
+                           "set b > 0 (Warren's liquid: a = -40, b = 25)", p.a, pair_names));
+      } else if (spec.pair_style == PairStyle::Spline) {
+        p.repulsion = required(&PairParams::repulsion, "repulsion", "A of seed 000 Eq. 19 (Liu: repulsion = 2.0)");
+        p.rc1 = required(&PairParams::rc1, "rc1", "r_c1 of seed 000 Eq. 19 (Liu: rc1 = 0.8)");
+        p.attraction = required(&PairParams::attraction, "attraction", "B of seed 000 Eq. 19 (Liu: attraction = 0..1.1)");
+        p.rc2 = required(&PairParams::rc2, "rc2", "r_c2 of seed 000 Eq. 19 (Liu: rc2 = 1.0)");
+        // U(0) = a (A - B): without a repulsive core the particles pile up on each other.
+        if (p.attraction > 0 && p.repulsion <= p.attraction)
+          fail(key_of(&PairParams::attraction, "attraction"), show(p.attraction),
+               fmt::format("must be smaller than repulsion = {} for {}: U(0) = a (A - B) must be positive, "
+                           "or the particles collapse onto each other", p.repulsion, pair_names));
+      }
 
       // sigma is not independent: fluctuation-dissipation fixes sigma^2 = 2 gamma kT (seed 000 Eq. 7).
       if (const auto sigma = pick(&PairParams::sigma)) {
@@ -273,6 +335,7 @@ void validate_integrator(SimulationSpec& spec) {
 
 void validate_run(SimulationSpec& spec) {
   check("run.max_velocity", spec.max_velocity, kPositive);
+  check("run.max_density", spec.max_density, kPositive);
   check_between("run.threads", spec.threads, 0, kMaxThreads);
 }
 
@@ -328,6 +391,10 @@ void validate_analysis(SimulationSpec& spec) {
     check_at_least("analysis.rdf.every", spec.rdf.every, 1);
   }
   if (spec.msd.enabled) check_at_least("analysis.msd.every", spec.msd.every, 1);
+  if (spec.surface_tension.enabled) {
+    check_between("analysis.surface_tension.axis", spec.surface_tension.axis, 0, 2);
+    check_between("analysis.surface_tension.blocks", spec.surface_tension.blocks, 2, 1000);
+  }
 }
 
 // [analysis.fields] / [[analysis.fields]]: the grid, the region, the species selection, centring and fit.
@@ -684,6 +751,23 @@ constexpr Section kSections[] = {
 
 void validate(SimulationSpec& spec) {
   for (const Section section : kSections) section(spec);
+}
+
+std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
+  std::vector<std::string> out;
+  if (spec.pair_style == PairStyle::Mdpd && !spec.pairs.empty()) {
+    const PairSpec& first = spec.pairs.front();
+    for (const PairSpec& p : spec.pairs)
+      if (p.b != first.b || p.rd != first.rd) {
+        out.push_back(fmt::format(
+            "pair.style = \"mdpd\" with B_ij or r_d that differ between species pairs (b = {} and {}, rd = {} and "
+            "{}): such a many-body force derives from no potential (Warren, Phys. Rev. E 68, 066702 (2003)), so the "
+            "energy in thermo.csv is not conserved and the mixture need not reach a Boltzmann equilibrium",
+            first.b, p.b, first.rd, p.rd));
+        break;
+      }
+  }
+  return out;
 }
 
 }  // namespace mesodpd

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -588,6 +589,8 @@ ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
 void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
                            double dt, bool with_sums, PairSums& sums, Halo* halo, const double* density) {
   apply_simd_cap();
+  if (density == nullptr && std::visit([](const auto& t) { return std::decay_t<decltype(t)>::LawType::kDensity; }, laws_))
+    throw std::logic_error("ForceCompute::compute: this pair law reads local densities; run compute_density first");
   PairJob job;
   job.p = &p;
   job.box = &box;

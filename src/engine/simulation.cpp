@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -30,6 +31,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       forces_(make_pair_laws(spec_),
               NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
+  density_ = make_density_settings(spec_);
   nlist_ = NeighborList(NeighborSettings{forces_.max_cutoff(),
                                          spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
   if (spec_.integrator == IntegratorKind::GrootWarren)
@@ -139,7 +141,9 @@ void Simulation::run_stages(StagePoint at) {
 }
 
 void Simulation::compute_forces(bool with_sums) {
-  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_);
+  // A many-body law first needs every particle's local density (ghosts included), then the force pass.
+  const double* rho = compute_density();
+  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
   sums_valid_ = with_sums;
   // External fields, walls, bonds: each adds to the pair forces, in registration order.
   run_stages(StagePoint::Forces);
@@ -172,6 +176,33 @@ void Simulation::step() {
   check_health();
   // 7. Measure and write: the observers, then the periodic checkpoint.
   run_stages(StagePoint::EndOfStep);
+}
+
+const double* Simulation::compute_density() {
+  if (!density_) return nullptr;
+  forces_.compute_density(p_, box_, nlist_, *density_, rho_, &halo_);
+  const auto [rho, id] = densest_particle();
+  if (rho > spec_.max_density)
+    throw BlowUpError(step_, id,
+                      fmt::format("simulation blew up at step {}: particle id {} has local density {:.4g} > "
+                                  "run.max_density = {} (the fluid is collapsing: check that B_ij > 0 is large enough "
+                                  "against A_ij < 0, or reduce integrator.dt)",
+                                  step_, id, rho, spec_.max_density));
+  return rho_.data();
+}
+
+std::pair<double, std::uint32_t> Simulation::densest_particle() const {
+  // Non-negative doubles order like their bit patterns, so an integer max over ranks finds the largest.
+  std::uint64_t best = 0;
+  const std::size_t n = std::min(p_.n_local, rho_.size());
+  for (std::size_t i = 0; i < n; ++i) best = std::max(best, std::bit_cast<std::uint64_t>(std::abs(rho_[i])));
+  const Comm& comm = halo_.comm();
+  if (comm.distributed()) best = comm.max(best);
+  std::uint64_t id = std::numeric_limits<std::uint64_t>::max();
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::bit_cast<std::uint64_t>(std::abs(rho_[i])) == best) id = std::min<std::uint64_t>(id, p_.id[i]);
+  if (comm.distributed()) id = comm.min(id);
+  return {std::bit_cast<double>(best), static_cast<std::uint32_t>(id)};
 }
 
 void Simulation::check_health() const {
@@ -210,10 +241,16 @@ void Simulation::check_health() const {
     state[3] = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
   }
   comm.sum(std::span<double>(state, 4));
+  std::string density;
+  if (density_) {
+    const auto [rho, densest] = densest_particle();
+    density = fmt::format("; the largest local density at this step's force evaluation was {:.4g} (particle id {})",
+                          rho, densest);
+  }
   throw BlowUpError(step_, static_cast<std::uint32_t>(id),
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
-                                "(run.max_velocity = {}); reduce integrator.dt or check the forces",
-                                step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity));
+                                "(run.max_velocity = {}){}; reduce integrator.dt or check the forces",
+                                step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity, density));
 }
 
 void Simulation::report_lost_particle() const {
@@ -253,7 +290,8 @@ ThermoState Simulation::thermo() {
     thermo_forces_[0] = p_.fx;
     thermo_forces_[1] = p_.fy;
     thermo_forces_[2] = p_.fz;
-    forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_);
+    const double* rho = compute_density();  // positions unchanged: the same densities as the step's
+    forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
     thermo_forces_[0].swap(p_.fx);
     thermo_forces_[1].swap(p_.fy);
     thermo_forces_[2].swap(p_.fz);

@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/box.hpp"
@@ -110,7 +111,12 @@ class Simulation {
   void write_checkpoint(const std::filesystem::path& file) const;
 
  private:
-  void compute_forces(bool with_sums);  // pair forces, then the Forces stages
+  void compute_forces(bool with_sums);  // local densities (if the law needs them), pair forces, Forces stages
+  // The density pass of a many-body law (nullptr when the law needs none); stops the run when a local
+  // density exceeds run.max_density.
+  const double* compute_density();
+  // The largest local density over all ranks and the smallest id holding it (collective).
+  std::pair<double, std::uint32_t> densest_particle() const;
   StepContext context();
   void run_stages(StagePoint at);
   void check_health() const;
@@ -131,6 +137,8 @@ class Simulation {
   std::uint64_t n_total_ = 0;
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
+  std::optional<DensitySettings> density_;  // the law's density pass (many-body DPD), if any
+  std::vector<double> rho_;                 // local densities of locals and ghosts from that pass
   PairSums sums_;
   std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;

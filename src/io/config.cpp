@@ -340,6 +340,11 @@ PairParams read_pair_params(const Section& s) {
   k.rc = s.real("rc");
   k.rd = s.real("rd");
   k.s = s.real("s");
+  k.b = s.real("b");
+  k.repulsion = s.real("repulsion");
+  k.rc1 = s.real("rc1");
+  k.attraction = s.real("attraction");
+  k.rc2 = s.real("rc2");
   return k;
 }
 
@@ -405,15 +410,21 @@ void read_species(const Section& top, SimulationSpec& spec) {
 }
 
 void read_pair(const Section& top, SimulationSpec& spec) {
-  const Section pair =
-      top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
-  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd}, {"soft", PairStyle::Soft}})
+  const Section pair = top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
+                                                   "rc1", "attraction", "rc2", "kernel", "mixing", "override"});
+  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd},
+                                                     {"soft", PairStyle::Soft},
+                                                     {"mdpd", PairStyle::Mdpd},
+                                                     {"spline", PairStyle::Spline}})
                         .value_or(PairStyle::Dpd);
   PairSection& sec = spec.pair_section;
+  sec.kernel = pair.choice<DensityKernelChoice>("kernel", {{"warren", DensityKernelChoice::Warren},
+                                                           {"lucy", DensityKernelChoice::Lucy}});
   sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
                    .value_or(Mixing::Explicit);
   sec.params = read_pair_params(pair);
-  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s"})) {
+  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
+                                                  "rc1", "attraction", "rc2"})) {
     PairOverride ov;
     auto names = o.strings("species");
     if (!names) o.missing("species", " (the two species names of the pair)");
@@ -436,12 +447,13 @@ void read_integrator(const Section& top, SimulationSpec& spec) {
 }
 
 void read_run(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "threads"});
+  const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "max_density", "threads"});
   read_uint(s, "steps", spec.steps);
   spec.noise = s.choice<NoiseDistribution>("noise", {{"uniform", NoiseDistribution::Uniform},
                                                      {"gaussian", NoiseDistribution::Gaussian}})
                    .value_or(NoiseDistribution::Uniform);
   read_real(s, "max_velocity", spec.max_velocity);
+  read_real(s, "max_density", spec.max_density);
   read_int(s, "threads", spec.threads);
 }
 
@@ -617,7 +629,7 @@ void read_fields(const Section& f, SimulationSpec& spec) {
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension"});
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -637,6 +649,13 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
     spec.msd.enabled = true;
     read_uint(*msd, "start", spec.msd.start);
     read_uint(*msd, "every", spec.msd.every);
+  }
+  if (const auto st = s.table("surface_tension", {"axis", "start", "blocks"})) {
+    SurfaceTensionSpec& t = spec.surface_tension;
+    t.enabled = true;
+    t.axis = st->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
+    read_uint(*st, "start", t.start);
+    read_int(*st, "blocks", t.blocks);
   }
 }
 
