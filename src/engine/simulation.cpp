@@ -87,7 +87,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record};
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}};
   if (!spec_.solids.empty()) {
     // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
     // velocities are complete, drag samples at the end of each step, and
