@@ -158,6 +158,19 @@ struct SurfaceTensionSpec {
   int blocks = 10;              // blocks of the error bar
 };
 
+// A droplet in its vapour ([analysis.droplet]; analysis/droplet.hpp): every `every` steps from `start`,
+// the drop's centre, its radial density profile, the equimolar radius, and the pressure inside (particles
+// within inner_radius of the centre) and outside (beyond outer_radius) from the per-particle virial of
+// the conservative forces (seed 000 Eq. 24), for Laplace's law Delta P = 2 sigma / R.
+struct DropletSpec {
+  bool enabled = false;
+  std::uint64_t start = 0, every = 100;  // first sampled step and interval
+  double inner_radius = 0;               // required: the liquid core, well inside the drop
+  double outer_radius = 0;               // required: the vapour beyond it (< half the smallest box length)
+  double bin_width = 0.1;                // radial profile bins
+  int blocks = 10;                       // blocks of the error bars
+};
+
 struct DumpSpec {
   bool enabled = false;
   DumpFormat format = DumpFormat::Lammps;
@@ -250,6 +263,7 @@ struct SimulationSpec {
   WallsSpec walls;                              // [walls]
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
   SurfaceTensionSpec surface_tension;           // [analysis.surface_tension]
+  DropletSpec droplet;                          // [analysis.droplet]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -144,6 +144,10 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
     if (s.surface_tension.enabled)
       tension_.emplace(s.surface_tension.axis, len[s.surface_tension.axis],
                        static_cast<std::size_t>(s.surface_tension.blocks));
+    if (s.droplet.enabled) {
+      if (!opt_.local_virial) throw std::logic_error("Observers: [analysis.droplet] needs ObserverSettings::local_virial");
+      droplet_.emplace(s.droplet, box, opt_.interaction_range);
+    }
     if (s.dump.enabled && files()) {
       const bool gsd = s.dump.format == DumpFormat::Gsd;
       const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
@@ -194,6 +198,7 @@ void Observers::save(ByteWriter& w) const {
     w.put_vector(section.bytes());
   }
   save_section(w, tension_);
+  save_section(w, droplet_);
 }
 
 void Observers::load(ByteReader& r, const std::string& context) {
@@ -216,6 +221,8 @@ void Observers::load(ByteReader& r, const std::string& context) {
   }
   if (r.remaining() == 0) return;  // a checkpoint from before the surface tension existed
   load_section(r, tension_, context);
+  if (r.remaining() == 0) return;  // a checkpoint from before the droplet analysis existed
+  load_section(r, droplet_, context);
 }
 
 void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
@@ -297,7 +304,8 @@ void Observers::observe(const StepContext& ctx) {
   const bool rdf_due = measure && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
   const bool msd_due = measure && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files() && s.dump.enabled && step % s.dump.every == 0;
-  if (!(rdf_due || msd_due || dump_due)) return;
+  const bool droplet_due = measure && s.droplet.enabled && step >= s.droplet.start && step % s.droplet.every == 0;
+  if (!(rdf_due || msd_due || dump_due || droplet_due)) return;
   // The whole system in increasing id on the root (collective).
   gather_by_id(ctx.particles, comm, ctx.total_particles, snapshot_);
   if (!comm.root()) return;
@@ -318,6 +326,7 @@ void Observers::observe(const StepContext& ctx) {
     msd_->sample(step, static_cast<double>(step) * s.dt, p.id.data(), scratch_a_.data(), scratch_b_.data(),
                  scratch_c_.data(), n);
   }
+  if (droplet_due) droplet_->sample(p, ctx.species_mass, ctx.box, opt_.local_virial);
   if (dump_due) write_frame(step, ctx, p);
 }
 
@@ -406,6 +415,7 @@ std::string Observers::finish(const StepContext& ctx) {
     summary += fmt::format("surface tension sigma = {:.4f} +- {:.4f} ({} thermo rows in {} blocks, normal {})\n", b.mean,
                            b.err, b.samples, b.blocks, "xyz"[s.surface_tension.axis]);
   }
+  if (droplet_ && droplet_->samples() > 0) summary += files() ? droplet_->write(opt_.out_dir) : droplet_->summary();
   if (msd_ && msd_->size() > 2) {
     if (files()) msd_->write_csv(out("msd.csv").string());
     summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());

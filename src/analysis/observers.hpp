@@ -1,5 +1,5 @@
 // Everything that watches a run, as one EndOfStep stage: thermo output, velocity profile and
-// viscosity, RDF, MSD, binned fields, trajectory frames and progress; their running averages go into checkpoints.
+// viscosity, RDF, MSD, binned fields, surface tension, droplet, trajectory frames and progress; their running averages go into checkpoints.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "analysis/binned_fields.hpp"
+#include "analysis/droplet.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
 #include "analysis/surface_tension.hpp"
@@ -51,6 +52,10 @@ struct ObserverSettings {
   // directory: for programs that read them through the API (the Python module) rather than from files.
   bool record = false;
   std::vector<ThermoColumn> columns;  // appended to every thermo row, in this order
+  // [analysis.droplet]: the per-particle conservative virial of a set of particles with the run's force
+  // law (set by the engine), and the interaction range (pair cutoff plus density-kernel range).
+  LocalVirial local_virial;
+  double interaction_range = 0;
 };
 
 class Observers final : public Stage {
@@ -87,6 +92,7 @@ class Observers final : public Stage {
   const MeanSquaredDisplacement* msd() const { return msd_ ? &*msd_ : nullptr; }
   // The [analysis.fields] grids (the same totals on every rank).
   const std::vector<BinnedFields>& fields() const { return fields_; }
+  const DropletAnalysis* droplet() const { return droplet_ ? &*droplet_ : nullptr; }
 
  private:
   bool files() const { return !opt_.out_dir.empty(); }
@@ -103,6 +109,7 @@ class Observers final : public Stage {
   std::optional<MeanSquaredDisplacement> msd_;
   std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
   std::optional<SurfaceTension> tension_;
+  std::optional<DropletAnalysis> droplet_;
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

@@ -395,6 +395,30 @@ void validate_analysis(SimulationSpec& spec) {
     check_between("analysis.surface_tension.axis", spec.surface_tension.axis, 0, 2);
     check_between("analysis.surface_tension.blocks", spec.surface_tension.blocks, 2, 1000);
   }
+  if (spec.droplet.enabled) {
+    const DropletSpec& d = spec.droplet;
+    const auto& per = spec.periodic;
+    // The drop's centre is a periodic mean and the vapour region wraps round the box.
+    if (!(per[0] && per[1] && per[2]))
+      fail("analysis.droplet", fmt::format("system.periodic = [{}, {}, {}]", per[0], per[1], per[2]),
+           "a droplet in its vapour needs a box periodic along every axis");
+    check_at_least("analysis.droplet.every", d.every, 1);
+    check_between("analysis.droplet.blocks", d.blocks, 2, 1000);
+    if (d.inner_radius == 0) fail("analysis.droplet.inner_radius", "missing", "is required: the radius of the liquid core where the inside pressure is measured");
+    if (d.outer_radius == 0) fail("analysis.droplet.outer_radius", "missing", "is required: the radius beyond which the vapour pressure is measured");
+    check("analysis.droplet.inner_radius", d.inner_radius, kPositive);
+    check("analysis.droplet.outer_radius", d.outer_radius, kPositive);
+    check("analysis.droplet.bin_width", d.bin_width, kPositive);
+    const double half_box = 0.5 * std::min({spec.box[0], spec.box[1], spec.box[2]});
+    if (!(d.outer_radius > d.inner_radius))
+      fail("analysis.droplet.outer_radius", show(d.outer_radius),
+           fmt::format("must be > analysis.droplet.inner_radius ({})", d.inner_radius));
+    if (!(d.outer_radius < half_box))
+      fail("analysis.droplet.outer_radius", show(d.outer_radius),
+           fmt::format("must be < half the smallest box length ({}): the vapour region is the box outside that sphere", half_box));
+    if (!(d.bin_width < half_box))
+      fail("analysis.droplet.bin_width", show(d.bin_width), fmt::format("must be < half the smallest box length ({})", half_box));
+  }
 }
 
 // [analysis.fields] / [[analysis.fields]]: the grid, the region, the species selection, centring and fit.

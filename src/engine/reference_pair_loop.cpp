@@ -80,6 +80,41 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
   sums.pairs_in_range = static_cast<std::uint64_t>(total[8]);
 }
 
+void reference_conservative_virial(const ParticleData& p, const Box& box, const PairLawTables& laws,
+                                   std::vector<double>& w, const double* rho) {
+  w.assign(p.n_local, 0.0);
+  std::visit(
+      [&](const auto& lt) {
+        using Law = typename std::decay_t<decltype(lt)>::LawType;
+        Law::with_evaluator(lt.table.params, [&](auto eval) {
+          for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double, double, double, double r) {
+            if (p.body[i] != 0 && p.body[j] != 0) return;
+            PairInput<double> in;
+            in.r = r;
+            if (rho != nullptr) {
+              in.rho_i = rho[i];
+              in.rho_j = rho[j];
+            }
+            // r_ij . F^C_ij = r fc (a central force along r-hat).
+            const double half = 0.5 * eval(lt.table(p.species[i], p.species[j]), in).fc * r;
+            w[i] += half;
+            w[j] += half;
+          });
+        });
+      },
+      laws);
+}
+
+std::function<void(const ParticleData&, const Box&, std::vector<double>&)> make_local_virial(
+    PairLawTables laws, std::optional<DensitySettings> density) {
+  return [laws = std::move(laws), density = std::move(density)](const ParticleData& p, const Box& box,
+                                                                 std::vector<double>& w) {
+    std::vector<double> rho;
+    if (density) reference_density(p, box, *density, rho);
+    reference_conservative_virial(p, box, laws, w, density ? rho.data() : nullptr);
+  };
+}
+
 void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho) {
   std::vector<std::int64_t> q(p.n_local, 0);
   auto run = [&](auto kernel) {

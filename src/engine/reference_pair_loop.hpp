@@ -4,6 +4,8 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/box.hpp"
@@ -18,6 +20,18 @@ namespace mesodpd {
 void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
                       std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
                       const double* rho = nullptr);
+
+// w[i] = (1/2) sum over j != i of r_ij . F^C_ij (conservative forces only; seed 000 Eq. 24), half of each
+// pair's virial to each of its particles: the per-particle virial behind the local pressures of
+// [analysis.droplet]. `rho` for laws with kDensity. Plain double sums, in index order.
+void reference_conservative_virial(const ParticleData& p, const Box& box, const PairLawTables& laws,
+                                   std::vector<double>& w, const double* rho = nullptr);
+
+// The per-particle conservative virial of a set of particles with these laws (and, for laws with
+// kDensity, local densities recomputed over the set): the callback of [analysis.droplet]
+// (analysis/droplet.hpp, LocalVirial), serial and in index order.
+std::function<void(const ParticleData&, const Box&, std::vector<double>&)> make_local_virial(
+    PairLawTables laws, std::optional<DensitySettings> density);
 
 // rho[i] = sum over j != i of w(r_ij), in the engine's fixed point.
 void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho);

@@ -18,6 +18,7 @@
 #include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
 #include "engine/initial_state.hpp"
+#include "engine/reference_pair_loop.hpp"
 #include "io/byte_buffer.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/state_checkpoint.hpp"
@@ -87,7 +88,13 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}};
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, 0.0};
+  if (spec_.droplet.enabled) {
+    // The droplet's local pressures: the run's force law on a subset of particles, by the reference
+    // loop (serial, in index order, so the result depends on neither threads nor ranks).
+    observer_settings.interaction_range = forces_.max_cutoff() + (density_ ? density_->table.max_cutoff : 0.0);
+    observer_settings.local_virial = make_local_virial(forces_.laws(), density_);
+  }
   if (!spec_.solids.empty()) {
     // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
     // velocities are complete, drag samples at the end of each step, and

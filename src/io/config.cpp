@@ -629,7 +629,7 @@ void read_fields(const Section& f, SimulationSpec& spec) {
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension", "droplet"});
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -656,6 +656,16 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
     t.axis = st->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
     read_uint(*st, "start", t.start);
     read_int(*st, "blocks", t.blocks);
+  }
+  if (const auto d = s.table("droplet", {"start", "every", "inner_radius", "outer_radius", "bin_width", "blocks"})) {
+    DropletSpec& o = spec.droplet;
+    o.enabled = true;
+    read_uint(*d, "start", o.start);
+    read_uint(*d, "every", o.every);
+    read_real(*d, "inner_radius", o.inner_radius);
+    read_real(*d, "outer_radius", o.outer_radius);
+    read_real(*d, "bin_width", o.bin_width);
+    read_int(*d, "blocks", o.blocks);
   }
 }
 
