@@ -4,7 +4,7 @@ gamma = 4.5, kT = 1, dt = 0.01) from the virial pressure of thermo.csv (seed 000
 Warren's fitted form p = rho kT + alpha A rho^2 + 2 alpha B r_d^4 (rho^3 - c rho^2 + d).
 
     /usr/bin/python3 examples/mdpd_eos/eos.py [--mesodpd build/mesodpd] [--out out/mdpd_eos]
-                     [--steps 3000] [--box 6] [--rho 0.5 1 2 ... 8] [--threads 1]
+                     [--steps 3000] [--box 6] [--rho 0.5 1 2 ... 8] [--threads 1] [--plot-only]
 
 Each state point: --box^3 periodic box filled uniformly at random (species density = rho), run
 --steps steps; the pressure is the mean of the thermo rows after the first third, with a 5-block error.
@@ -97,9 +97,13 @@ def main():
     ap.add_argument("--box", type=float, default=6.0)
     ap.add_argument("--rho", type=float, nargs="+", default=[0.5, 1, 2, 3, 4, 5, 5.5, 6, 6.5, 7, 7.5, 8])
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--plot-only", action="store_true", help="redraw eos.png from --out/eos.csv")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows = []
+    if args.plot_only:
+        rows = [tuple(v) for v in np.loadtxt(os.path.join(args.out, "eos.csv"), delimiter=",", skiprows=1)]
+        args.rho = []
     for k, rho in enumerate(args.rho):
         run_dir = os.path.join(args.out, f"rho{rho:g}")
         os.makedirs(run_dir, exist_ok=True)
@@ -122,7 +126,7 @@ def main():
         rows.append((rho, p, p_err, temp, dens.min(), dens.max(), warren_eos(rho)))
         print(f"rho = {rho:5.2f}: P = {p:9.4f} +- {p_err:.4f}, T = {temp:.4f}, octant densities "
               f"{dens.min():.2f}..{dens.max():.2f}, Warren's fit {warren_eos(rho):9.4f}", flush=True)
-    with open(os.path.join(args.out, "eos.csv"), "w") as f:
+    with open(os.path.join(args.out, "eos.csv"), "w") as f:  # (rewritten unchanged with --plot-only)
         f.write("rho,pressure,pressure_err,temperature,octant_density_min,octant_density_max,warren_fit\n")
         for r in rows:
             f.write(",".join(f"{v:.6g}" for v in r) + "\n")
@@ -131,18 +135,24 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         r = np.array(rows)
-        fig, ax = plt.subplots(figsize=(5.5, 4))
-        homogeneous = (r[:, 5] - r[:, 4]) < 0.5 * r[:, 0]
-        ax.errorbar(r[homogeneous, 0], r[homogeneous, 1], yerr=r[homogeneous, 2], fmt="o", label="homogeneous box")
-        ax.errorbar(r[~homogeneous, 0], r[~homogeneous, 1], yerr=r[~homogeneous, 2], fmt="s", mfc="none",
-                    label="box separated (liquid + vapour)")
-        rr = np.linspace(2.5, max(r[:, 0]) + 0.2, 100)
-        ax.plot(rr, warren_eos(rr), "-", label="Warren's fit (2003)")
-        ax.axhline(0, color="grey", lw=0.5)
-        ax.set_xlabel("density rho")
-        ax.set_ylabel("virial pressure P")
-        ax.set_title("Warren's many-body DPD fluid, A = -40, B = 25, kT = 1")
-        ax.legend()
+        homogeneous = (r[:, 5] - r[:, 4]) < 0.15 * r[:, 0]
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+        for ax, zoom in zip(axes, [False, True]):
+            ax.errorbar(r[homogeneous, 0], r[homogeneous, 1], yerr=r[homogeneous, 2], fmt="o", label="homogeneous box")
+            ax.errorbar(r[~homogeneous, 0], r[~homogeneous, 1], yerr=r[~homogeneous, 2], fmt="s", mfc="none",
+                        label="box separated (liquid + vapour)")
+            rr = np.linspace(3.0, max(r[:, 0]) + 0.2, 100)
+            ax.plot(rr, warren_eos(rr), "-", label="Warren's fit (2003), liquid")
+            ax.axhline(0, color="grey", lw=0.5)
+            ax.set_xlabel("density rho")
+            ax.set_ylabel("virial pressure P")
+            if zoom:
+                ax.set_xlim(0, 7)
+                ax.set_ylim(-40, 30)
+                ax.set_title("the loop (zoom)")
+            else:
+                ax.set_title("Warren's many-body DPD fluid, A = -40, B = 25, kT = 1")
+                ax.legend()
         fig.tight_layout()
         fig.savefig(os.path.join(args.out, "eos.png"), dpi=120)
     except ImportError:

@@ -791,6 +791,25 @@ std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
         break;
       }
   }
+  if (spec.pair_style == PairStyle::Spline) {
+    // W(r, r_c) is a function of r / r_c, so its integral over space scales as r_c^3 and that of
+    // U = a [A W(r, r_c1) - B W(r, r_c2)] (seed 000 Eq. 19) has the sign of a (A r_c1^3 - B r_c2^3). A
+    // negative integral makes the potential catastrophic (Ruelle): the energy per particle has no lower
+    // bound as the density grows, so a "liquid" keeps contracting instead of coexisting with its gas
+    // (docs/validation.md, Liu's droplet phases at B = 1.05 and 1.1).
+    for (const PairSpec& p : spec.pairs) {
+      const double integral = p.a * (p.repulsion * std::pow(p.rc1, 3) - p.attraction * std::pow(p.rc2, 3));
+      if (integral < 0) {
+        out.push_back(fmt::format(
+            "pair.style = \"spline\" for species pair ({}, {}): a (A r_c1^3 - B r_c2^3) = {:.4g} < 0 (a = {}, repulsion "
+            "A = {}, rc1 = {}, attraction B = {}, rc2 = {}): the potential's integral over space is negative, so it is "
+            "catastrophic (no thermodynamic limit) and dense drops keep contracting; keep B below A (r_c1 / r_c2)^3 = {:.4g}",
+            spec.species[static_cast<std::size_t>(p.i)].name, spec.species[static_cast<std::size_t>(p.j)].name, integral,
+            p.a, p.repulsion, p.rc1, p.attraction, p.rc2, p.repulsion * std::pow(p.rc1 / p.rc2, 3)));
+        break;
+      }
+    }
+  }
   return out;
 }
 

@@ -894,4 +894,52 @@ rd = 0.75
   EXPECT_NE(w[0].find("no potential"), std::string::npos) << w[0];
 }
 
+
+TEST(Config, DropletAnalysisErrorsNameTheirKey) {
+  expect_error(minimal_plus("[analysis.droplet]\nouter_radius = 4\n"),
+               {"analysis.droplet.inner_radius", "is required"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 2\n"),
+               {"analysis.droplet.outer_radius", "is required"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 3\nouter_radius = 2\n"),
+               {"analysis.droplet.outer_radius = 2", "must be > analysis.droplet.inner_radius (3)"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 2\nouter_radius = 5\n"),
+               {"analysis.droplet.outer_radius = 5", "half the smallest box length (5)"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = -1\nouter_radius = 4\n"),
+               {"analysis.droplet.inner_radius = -1", "must be > 0"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 1\nouter_radius = 4\nevery = 0\n"),
+               {"analysis.droplet.every = 0"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 1\nouter_radius = 4\nblocks = 1\n"),
+               {"analysis.droplet.blocks = 1"});
+  expect_error(minimal_plus("[analysis.droplet]\ninner_radius = 1\nouter_radius = 4\nradius = 3\n"),
+               {"unknown key 'analysis.droplet.radius'"});
+  expect_error("[system]\nbox = [10, 10, 12]\nperiodic = [true, true, false]\n[[species]]\nname = \"A\"\ndensity = 3\n"
+               "[[species]]\nname = \"wall\"\nfrozen = true\n"
+               "[[solid]]\nname = \"bottom\"\nspecies = \"wall\"\nshape = \"plane\"\npoint = [0, 0, 1]\nnormal = [0, 0, 1]\n"
+               "[[solid]]\nname = \"top\"\nspecies = \"wall\"\nshape = \"plane\"\npoint = [0, 0, 11]\nnormal = [0, 0, -1]\n"
+               "[analysis.droplet]\ninner_radius = 1\nouter_radius = 4\n",
+               {"analysis.droplet", "periodic along every axis"});
+  const SimulationSpec ok = parse_config(minimal_plus("[analysis.droplet]\ninner_radius = 1\nouter_radius = 4\n"), "t.toml");
+  EXPECT_TRUE(ok.droplet.enabled);
+  EXPECT_EQ(ok.droplet.every, 100u);
+  EXPECT_EQ(ok.droplet.blocks, 10);
+  EXPECT_DOUBLE_EQ(ok.droplet.bin_width, 0.1);
+}
+
+
+TEST(Config, CatastrophicSplineAttractionIsWarned) {
+  // Liu's spline (a = 18.75, A = 2, r_c1 = 0.8, r_c2 = 1): B above A (r_c1/r_c2)^3 = 1.024 makes the
+  // integral of U negative; B = 1.0 (Liu's single drop) is fine.
+  auto spline = [](double b) {
+    return minimal_plus("[pair]\nstyle = \"spline\"\na = 18.75\nrepulsion = 2.0\nrc1 = 0.8\nattraction = " +
+                        std::to_string(b) + "\nrc2 = 1.0\n");
+  };
+  EXPECT_TRUE(spec_warnings(parse_config(spline(1.0), "test.toml")).empty());
+  EXPECT_TRUE(spec_warnings(parse_config(spline(1.02), "test.toml")).empty());
+  const auto w = spec_warnings(parse_config(spline(1.05), "test.toml"));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("catastrophic"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("1.024"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("(A, A)"), std::string::npos) << w[0];
+}
+
 }  // namespace mesodpd
