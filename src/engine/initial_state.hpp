@@ -5,6 +5,7 @@
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
+#include "core/topology.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
@@ -17,7 +18,10 @@ using KeepPredicate = std::function<bool(double x, double y, double z)>;
 // so they do not depend on thread or rank count. With `keep`, a generated system (no data file)
 // stores only the particles it accepts, so a rank never holds the whole system; a data file is
 // always read whole.
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {});
+// With `topology`, also returns the bonds and angles (by global id) of the generated molecules or of
+// the data file.
+void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {},
+                        Topology* topology = nullptr);
 
 // The pre-flight check of an initial state, shared by `mesodpd check` and the public API: with
 // init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state
