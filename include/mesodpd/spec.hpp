@@ -93,6 +93,24 @@ struct MsdSpec {
   std::uint64_t start = 0, every = 100;
 };
 
+// Time-averaged fields on a grid of bins ([analysis.fields], repeatable as [[analysis.fields]]; issue 10
+// item 5, issue 11 item 3): number density per species, mass-weighted velocity and the temperature of the
+// peculiar velocity, on a 1-, 2- or 3-D grid over the box or a box-aligned sub-region.
+enum class FieldsFit { None, Slab };
+struct FieldsSpec {
+  std::string name = "fields";                // output files <name>.vti, .csv, .json (unique per run)
+  std::array<int, 3> bins{1, 1, 1};           // bins along x, y, z; 1 averages over that axis
+  std::optional<std::array<double, 3>> lo, hi;  // sub-region as written (default: the whole box)
+  std::array<double, 3> region_lo{0, 0, 0};   // resolved by validate(): lo, or 0
+  std::array<double, 3> region_hi{0, 0, 0};   // resolved by validate(): hi, or the box length
+  std::uint64_t start = 0, every = 10;        // first sampled step and interval
+  std::vector<std::string> species;           // species in velocity, temperature, density (empty: all)
+  std::vector<std::string> exclude;           // or: every species but these (e.g. frozen walls)
+  std::vector<int> selected;                  // resolved by validate(): indices of the species binned
+  int centre_axis = -1;                       // shift each sample so the selected mass is centred (-1: no)
+  FieldsFit fit = FieldsFit::None;            // "slab": tanh fit of a 1-D density profile
+};
+
 struct DumpSpec {
   bool enabled = false;
   DumpFormat format = DumpFormat::Lammps;
@@ -182,6 +200,7 @@ struct SimulationSpec {
   double bond_reach = 0;                        // longest bond or angle leg allowed; validate(): default the
                                                 // largest pair cutoff. Neighbour cells (and so ghost layers)
                                                 // are at least max(cutoff, reach) + skin wide.
+  std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

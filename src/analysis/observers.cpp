@@ -110,6 +110,12 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
     comm.sum(std::span<std::uint64_t>(count));
     for (std::size_t k = 0; k < count.size(); ++k) mass += static_cast<double>(count[k]) * s.species[k].mass;
   }
+  // Binned fields: every rank holds the same totals (each sample is summed over ranks).
+  std::vector<std::string> names;
+  for (const SpeciesSpec& sp : s.species) names.push_back(sp.name);
+  for (const FieldsSpec& f : s.fields)
+    fields_.emplace_back(f, start.species_mass, names, std::array<double, 3>{start.box.len.x, start.box.len.y, start.box.len.z},
+                         start.box.periodic);
   // Files belong to the root; an error there stops every rank.
   comm.on_root([&] {
     std::filesystem::create_directories(opt_.out_dir);
@@ -168,6 +174,15 @@ void Observers::save(ByteWriter& w) const {
   save_section(w, profile_);
   save_section(w, rdf_);
   save_section(w, msd_);
+  // Binned fields by name: a restart finds its grid whatever the order of the tables, and a grid that
+  // is new at the restart starts afresh.
+  w.put<std::uint64_t>(fields_.size());
+  for (const BinnedFields& f : fields_) {
+    ByteWriter section;
+    f.save(section);
+    w.put_string(f.spec().name);
+    w.put_vector(section.bytes());
+  }
 }
 
 void Observers::load(ByteReader& r, const std::string& context) {
@@ -177,6 +192,17 @@ void Observers::load(ByteReader& r, const std::string& context) {
   load_section(r, profile_, context);
   load_section(r, rdf_, context);
   load_section(r, msd_, context);
+  if (r.remaining() == 0) return;  // a checkpoint from before binned fields existed
+  const auto grids = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < grids; ++k) {
+    const std::string name = r.get_string();
+    const std::vector<std::byte> bytes = r.get_vector<std::byte>();
+    for (BinnedFields& f : fields_)
+      if (f.spec().name == name) {
+        ByteReader section(bytes, context);
+        f.load(section, context);
+      }
+  }
 }
 
 void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
@@ -249,6 +275,8 @@ void Observers::observe(const StepContext& ctx) {
     comm.sum(std::span<std::int64_t>(profile_bins_));
     if (comm.root()) profile_->add_binned(profile_bins_.data());
   }
+  for (BinnedFields& f : fields_)
+    if (files && step >= f.spec().start && step % f.spec().every == 0) f.sample(ctx.particles, comm, step);
   const bool rdf_due = files && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
   const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
@@ -343,6 +371,13 @@ std::string Observers::finish(const StepContext& ctx) {
                           : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
                                         s.poiseuille.force)});
     }
+  }
+  for (const BinnedFields& f : fields_) {
+    if (f.samples() == 0) {
+      summary += fmt::format("{}: no samples (run longer than analysis.fields.start)\n", f.spec().name);
+      continue;
+    }
+    summary += f.write(opt_.out_dir);
   }
   if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
   if (msd_ && msd_->size() > 2) {

@@ -1,5 +1,5 @@
 // Everything that watches a run, as one EndOfStep stage: thermo output, velocity profile and
-// viscosity, RDF, MSD, trajectory frames and progress; their running averages go into checkpoints.
+// viscosity, RDF, MSD, binned fields, trajectory frames and progress; their running averages go into checkpoints.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/binned_fields.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
 #include "analysis/velocity_profile.hpp"
@@ -73,6 +74,7 @@ class Observers final : public Stage {
   std::optional<PoiseuilleProfile> profile_;
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;
+  std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

@@ -5,9 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
+
+#include "io/atomic_file.hpp"
 
 namespace mesodpd {
 
@@ -241,10 +242,103 @@ void write_svg_plot(const std::string& path, const std::string& title, const std
   }
   svg += "</svg>\n";
 
-  std::ofstream os(path);
-  if (!os) throw std::runtime_error(fmt::format("write_svg_plot: cannot open '{}' for writing", path));
-  os << svg;
-  if (!os) throw std::runtime_error(fmt::format("write_svg_plot: write to '{}' failed", path));
+  write_file_atomically(path, [&](std::ostream& os) { os << svg; });
+}
+
+namespace {
+// Perceptually ordered colours (viridis at nine stops), interpolated linearly in RGB.
+std::string colour_of(double t) {
+  static constexpr unsigned char kStops[9][3] = {{68, 1, 84},    {71, 44, 122},  {59, 81, 139},
+                                                  {44, 113, 142}, {33, 144, 141}, {39, 173, 129},
+                                                  {92, 200, 99},  {170, 220, 50}, {253, 231, 37}};
+  t = std::clamp(t, 0.0, 1.0) * 8.0;
+  const int k = std::min(7, static_cast<int>(t));
+  const double f = t - k;
+  unsigned char rgb[3];
+  for (int c = 0; c < 3; ++c) rgb[c] = static_cast<unsigned char>(std::lround(kStops[k][c] + f * (kStops[k + 1][c] - kStops[k][c])));
+  return fmt::format("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]);
+}
+}  // namespace
+
+void write_svg_map(const std::string& path, const std::string& title, const std::string& xlabel,
+                   const std::string& ylabel, const SvgGrid& grid, const std::string& value_label,
+                   const std::vector<std::string>& notes) {
+  if (grid.nx < 1 || grid.ny < 1 || grid.values.size() != grid.nx * grid.ny || !(grid.x1 > grid.x0) ||
+      !(grid.y1 > grid.y0))
+    throw std::invalid_argument("write_svg_map: values must hold nx x ny entries over a non-empty rectangle");
+  double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
+  for (double v : grid.values)
+    if (std::isfinite(v)) vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+  const Axis scale = nice_axis(vmin, vmax, 5);
+  // The map keeps the aspect ratio of the region, within limits that keep it legible.
+  const double map_w = 560.0;
+  const double map_h = std::clamp(map_w * (grid.y1 - grid.y0) / (grid.x1 - grid.x0), 120.0, 900.0);
+  const double left = 85.0, top = 45.0, right = left + map_w, bottom = top + map_h;
+  const double width = right + 130.0;
+  const double height = bottom + 65.0 + 18.0 * static_cast<double>(notes.size());
+  const Axis ax = nice_axis(grid.x0, grid.x1, 6), ay = nice_axis(grid.y0, grid.y1, 6);
+  const auto px = [&](double x) { return left + (x - grid.x0) / (grid.x1 - grid.x0) * map_w; };
+  const auto py = [&](double y) { return bottom - (y - grid.y0) / (grid.y1 - grid.y0) * map_h; };
+  std::string svg = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
+      "font-family=\"sans-serif\" font-size=\"13\">\n<rect x=\"0\" y=\"0\" width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+      width, height);
+  svg += fmt::format("<text x=\"{:.1f}\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">{}</text>\n", width / 2,
+                     escape(title));
+  // Cells (grey where there is no value), slightly oversized so that no hairline gaps show.
+  const double cw = map_w / static_cast<double>(grid.nx), ch = map_h / static_cast<double>(grid.ny);
+  svg += "<g shape-rendering=\"crispEdges\">\n";
+  for (std::size_t j = 0; j < grid.ny; ++j)
+    for (std::size_t i = 0; i < grid.nx; ++i) {
+      const double v = grid.values[j * grid.nx + i];
+      const std::string fill = std::isfinite(v) ? colour_of((v - scale.lo) / (scale.hi - scale.lo)) : "#d0d0d0";
+      svg += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"{}\"/>\n",
+                         left + cw * static_cast<double>(i), bottom - ch * static_cast<double>(j + 1), cw + 0.3, ch + 0.3,
+                         fill);
+    }
+  svg += "</g>\n";
+  svg += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"none\" stroke=\"black\"/>\n",
+                     left, top, map_w, map_h);
+  for (double t : ax.ticks) {
+    if (t < grid.x0 - 1e-9 * ax.step || t > grid.x1 + 1e-9 * ax.step) continue;
+    svg += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{0:.2f}\" y2=\"{2:.2f}\" stroke=\"black\"/>\n", px(t), bottom,
+                       bottom + 5);
+    svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", px(t), bottom + 20,
+                       tick_label(t, ax.step));
+  }
+  for (double t : ay.ticks) {
+    if (t < grid.y0 - 1e-9 * ay.step || t > grid.y1 + 1e-9 * ay.step) continue;
+    svg += fmt::format("<line x1=\"{1:.2f}\" y1=\"{0:.2f}\" x2=\"{2:.2f}\" y2=\"{0:.2f}\" stroke=\"black\"/>\n", py(t), left - 5,
+                       left);
+    svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"end\">{}</text>\n", left - 8, py(t) + 4,
+                       tick_label(t, ay.step));
+  }
+  svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", (left + right) / 2, bottom + 42,
+                     escape(xlabel));
+  svg += fmt::format("<text transform=\"translate(20 {:.2f}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
+                     (top + bottom) / 2, escape(ylabel));
+  // Colour bar with the value scale.
+  const double bx = right + 25.0, bw = 18.0;
+  for (int k = 0; k < 64; ++k) {
+    const double y0 = bottom - map_h * (k + 1) / 64.0;
+    svg += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"{}\"/>\n", bx, y0, bw,
+                       map_h / 64.0 + 0.3, colour_of((k + 0.5) / 64.0));
+  }
+  svg += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"none\" stroke=\"black\"/>\n",
+                     bx, top, bw, map_h);
+  for (double t : scale.ticks) {
+    const double y = bottom - (t - scale.lo) / (scale.hi - scale.lo) * map_h;
+    svg += fmt::format("<line x1=\"{:.2f}\" y1=\"{:.2f}\" x2=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"black\"/>\n", bx + bw, y,
+                       bx + bw + 4, y);
+    svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\">{}</text>\n", bx + bw + 7, y + 4, tick_label(t, scale.step));
+  }
+  svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", bx + bw / 2, top - 8,
+                     escape(value_label));
+  for (std::size_t i = 0; i < notes.size(); ++i)
+    svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\">{}</text>\n", left, bottom + 64 + 18.0 * static_cast<double>(i),
+                       escape(notes[i]));
+  svg += "</svg>\n";
+  write_file_atomically(path, [&](std::ostream& os) { os << svg; });
 }
 
 }  // namespace mesodpd

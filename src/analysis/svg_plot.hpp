@@ -1,4 +1,5 @@
-// Minimal dependency-free SVG line/scatter plot, so every run can leave a picture of its result.
+// Minimal dependency-free SVG line/scatter plots and colour maps, so every run can leave a picture of
+// its result. Files are written atomically (io/atomic_file.hpp).
 #pragma once
 #include <string>
 #include <vector>
@@ -22,5 +23,18 @@ struct SvgSeries {
 void write_svg_plot(const std::string& path, const std::string& title, const std::string& xlabel,
                     const std::string& ylabel, const std::vector<SvgSeries>& series,
                     const std::vector<std::string>& notes = {});
+
+// A regular grid of values over [x0, x1] x [y0, y1]: nx x ny cells, x fastest; NaN = no value.
+struct SvgGrid {
+  std::size_t nx = 0, ny = 0;
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  std::vector<double> values;
+};
+
+// Writes a colour map of `grid` (viridis; grey where a value is not finite) with axes, a colour bar
+// labelled `value_label` and one text line per note. Throws std::invalid_argument on a malformed grid.
+void write_svg_map(const std::string& path, const std::string& title, const std::string& xlabel,
+                   const std::string& ylabel, const SvgGrid& grid, const std::string& value_label,
+                   const std::vector<std::string>& notes = {});
 
 }  // namespace mesodpd

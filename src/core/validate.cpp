@@ -322,6 +322,77 @@ void validate_analysis(SimulationSpec& spec) {
   if (spec.msd.enabled) check_at_least("analysis.msd.every", spec.msd.every, 1);
 }
 
+// [analysis.fields] / [[analysis.fields]]: the grid, the region, the species selection, centring and fit.
+void validate_fields(SimulationSpec& spec) {
+  std::vector<std::string_view> names;
+  for (const SpeciesSpec& sp : spec.species) names.push_back(sp.name);
+  const bool many = spec.fields.size() > 1;
+  for (std::size_t k = 0; k < spec.fields.size(); ++k) {
+    FieldsSpec& f = spec.fields[k];
+    const std::string key = many ? fmt::format("analysis.fields[{}]", k) : std::string("analysis.fields");
+    const bool name_ok = !f.name.empty() && std::all_of(f.name.begin(), f.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+    });
+    if (!name_ok) fail(key + ".name", show(f.name), "must be non-empty and use only letters, digits, '_' and '-' (it names the output files)");
+    for (std::size_t prev = 0; prev < k; ++prev)
+      if (spec.fields[prev].name == f.name)
+        fail(key + ".name", show(f.name),
+             fmt::format("also the name of analysis.fields[{}]; each grid needs its own name (its output files)", prev));
+    double total = 1;
+    for (std::size_t d = 0; d < 3; ++d) {
+      check_at_least(fmt::format("{}.bins[{}]", key, d), f.bins[d], 1);
+      total *= f.bins[d];
+    }
+    constexpr double kMaxBins = 4.0e6;  // running sums are (species + 6) 16-byte integers per bin
+    if (total > kMaxBins)
+      fail(key + ".bins", fmt::format("[{}, {}, {}]", f.bins[0], f.bins[1], f.bins[2]),
+           fmt::format("{:.0f} bins in all, more than the {:.0f} allowed", total, kMaxBins));
+    if (f.lo) check(key + ".lo", *f.lo, kFinite);
+    if (f.hi) check(key + ".hi", *f.hi, kFinite);
+    for (std::size_t d = 0; d < 3; ++d) {
+      f.region_lo[d] = f.lo ? (*f.lo)[d] : 0.0;
+      f.region_hi[d] = f.hi ? (*f.hi)[d] : spec.box[d];
+      if (f.region_lo[d] < 0.0 || f.region_lo[d] >= spec.box[d])
+        fail(fmt::format("{}.lo[{}]", key, d), show(f.region_lo[d]), fmt::format("must be in [0, {}) (system.box[{}])", spec.box[d], d));
+      if (!(f.region_hi[d] > f.region_lo[d]) || f.region_hi[d] > spec.box[d])
+        fail(fmt::format("{}.hi[{}]", key, d), show(f.region_hi[d]),
+             fmt::format("must be > lo[{}] = {} and <= system.box[{}] = {}", d, f.region_lo[d], d, spec.box[d]));
+    }
+    check_at_least(key + ".every", f.every, 1);
+    if (!f.species.empty() && !f.exclude.empty())
+      fail(key + ".exclude", show(f.exclude), fmt::format("not allowed together with {}.species (name the species binned, or those left out)", key));
+    const bool by_name = !f.species.empty();
+    const std::vector<std::string>& listed = by_name ? f.species : f.exclude;
+    const std::string list_key = key + (by_name ? ".species" : ".exclude");
+    std::vector<bool> listed_flag(names.size(), false);
+    for (const std::string& n : listed) {
+      const auto it = std::find(names.begin(), names.end(), n);
+      if (it == names.end())
+        fail(list_key, show(listed), fmt::format("unknown species \"{}\" (defined: {})", n, quoted_list(names)));
+      const auto idx = static_cast<std::size_t>(it - names.begin());
+      if (listed_flag[idx]) fail(list_key, show(listed), fmt::format("species \"{}\" is listed twice", n));
+      listed_flag[idx] = true;
+    }
+    f.selected.clear();
+    for (std::size_t s = 0; s < names.size(); ++s)
+      if (by_name ? listed_flag[s] : !listed_flag[s]) f.selected.push_back(static_cast<int>(s));
+    if (f.selected.empty()) fail(list_key, show(listed), "leaves no species to bin");
+    if (f.centre_axis >= 0 && !spec.periodic[static_cast<std::size_t>(f.centre_axis)])
+      fail(key + ".centre", show_axis(f.centre_axis), "centring needs a periodic axis (system.periodic)");
+    if (f.fit == FieldsFit::Slab) {
+      int profile_axes = 0, axis = -1;
+      for (int d = 0; d < 3; ++d)
+        if (f.bins[static_cast<std::size_t>(d)] > 1) ++profile_axes, axis = d;
+      if (profile_axes != 1)
+        fail(key + ".fit", "\"slab\"",
+             fmt::format("fits a 1-D density profile: {}.bins must be > 1 along exactly one axis, e.g. [1, 1, 100]", key));
+      if (f.bins[static_cast<std::size_t>(axis)] < 8)
+        fail(fmt::format("{}.bins[{}]", key, axis), fmt::format("{}", f.bins[static_cast<std::size_t>(axis)]),
+             "must be >= 8 for fit = \"slab\" (the tanh profile has five parameters)");
+    }
+  }
+}
+
 // What the engine refuses at construction on any number of ranks, checked here so that a spec that
 // validates also starts (mesodpd check then refuses what mesodpd run would).
 // Parses a molecule sequence in the notation of seed 002 ("Amphiphilic Systems"): "A10", "H2T6",
@@ -545,7 +616,7 @@ using Section = void (*)(SimulationSpec&);
 constexpr Section kSections[] = {
     validate_system, validate_init,   validate_species,    validate_pairs,    validate_integrator,
     validate_run,    validate_neighbor, validate_parallel, validate_output,   validate_poiseuille,
-    validate_analysis, validate_topology, validate_engine_limits,
+    validate_analysis, validate_fields, validate_topology, validate_engine_limits,
 };
 
 }  // namespace

@@ -581,8 +581,37 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
   read_int(*s, "blocks", p.blocks);
 }
 
+void read_fields(const Section& f, SimulationSpec& spec) {
+  FieldsSpec& out = spec.fields.emplace_back();
+  if (auto name = f.string("name")) out.name = std::move(*name);
+  if (const auto b = f.vec3("bins")) {
+    for (std::size_t d = 0; d < 3; ++d) {
+      const double v = (*b)[d];
+      if (!(std::abs(v) <= INT_MAX) || v != std::trunc(v))
+        f.bad("bins", fmt::format("element {} is {}, not a whole number of bins", d, v));
+      out.bins[d] = static_cast<int>(v);
+    }
+  }
+  out.lo = f.vec3("lo");
+  out.hi = f.vec3("hi");
+  read_uint(f, "start", out.start);
+  read_uint(f, "every", out.every);
+  if (auto sp = f.strings("species")) out.species = std::move(*sp);
+  if (auto ex = f.strings("exclude")) out.exclude = std::move(*ex);
+  out.centre_axis = f.choice<int>("centre", {{"none", -1}, {"x", 0}, {"y", 1}, {"z", 2}}).value_or(-1);
+  out.fit = f.choice<FieldsFit>("fit", {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}).value_or(FieldsFit::None);
+}
+
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields"});
+  // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
+  const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
+                                                 "species", "exclude", "centre", "fit"};
+  if (const toml::node* n = s.get("fields"); n && n->is_table()) {
+    read_fields(*s.table("fields", kFieldKeys), spec);
+  } else if (n) {
+    for (const Section& f : s.tables("fields", kFieldKeys)) read_fields(f, spec);
+  }
   if (const auto rdf = s.table("rdf", {"bins", "rmax", "start", "every"})) {
     spec.rdf.enabled = true;
     read_int(*rdf, "bins", spec.rdf.bins);

@@ -764,5 +764,72 @@ TEST(Config, PairStyleChoosesTheForceLaw) {
                {"pair.override[0].rd", "soft"});
 }
 
+TEST(Config, FieldsTableAndArrayOfTables) {
+  const SimulationSpec one = parse_config(minimal_plus(R"(
+[[species]]
+name = "W"
+count = 10
+
+[analysis.fields]
+bins = [20, 1, 10]
+lo = [0, 0, 2.5]
+start = 100
+every = 5
+exclude = ["W"]
+centre = "z"
+)"), "test.toml");
+  ASSERT_EQ(one.fields.size(), 1u);
+  const FieldsSpec& f = one.fields[0];
+  EXPECT_EQ(f.name, "fields");
+  EXPECT_EQ(f.bins, (std::array<int, 3>{20, 1, 10}));
+  EXPECT_EQ(f.region_lo, (std::array<double, 3>{0, 0, 2.5}));
+  EXPECT_EQ(f.region_hi, (std::array<double, 3>{10, 10, 10}));
+  EXPECT_EQ(f.start, 100u);
+  EXPECT_EQ(f.every, 5u);
+  EXPECT_EQ(f.selected, std::vector<int>{0});
+  EXPECT_EQ(f.centre_axis, 2);
+  EXPECT_EQ(f.fit, FieldsFit::None);
+  const SimulationSpec two = parse_config(minimal_plus(R"(
+[[analysis.fields]]
+name = "map"
+bins = [4, 4, 1]
+
+[[analysis.fields]]
+name = "profile"
+bins = [1, 1, 40]
+fit = "slab"
+species = ["A"]
+)"), "test.toml");
+  ASSERT_EQ(two.fields.size(), 2u);
+  EXPECT_EQ(two.fields[1].name, "profile");
+  EXPECT_EQ(two.fields[1].fit, FieldsFit::Slab);
+  EXPECT_EQ(two.fields[0].every, 10u);  // default
+}
+
+TEST(Config, RejectsBadFields) {
+  const std::string two_species = "[[species]]\nname = \"W\"\ncount = 10\n\n";
+  expect_error(minimal_plus("[analysis.fields]\nbins = [0, 1, 1]\n"), {"analysis.fields.bins[0] = 0", ">= 1"});
+  expect_error(minimal_plus("[analysis.fields]\nbins = [2.5, 1, 1]\n"), {"analysis.fields.bins", "whole number"});
+  expect_error(minimal_plus("[analysis.fields]\nbins = [2000, 2000, 2]\n"), {"analysis.fields.bins", "more than"});
+  expect_error(minimal_plus("[analysis.fields]\nhi = [5, 11, 5]\n"), {"analysis.fields.hi[1] = 11", "system.box[1]"});
+  expect_error(minimal_plus("[analysis.fields]\nlo = [5, 0, 0]\nhi = [4, 10, 10]\n"), {"analysis.fields.hi[0] = 4", "> lo[0]"});
+  expect_error(minimal_plus("[analysis.fields]\nlo = [-1, 0, 0]\n"), {"analysis.fields.lo[0] = -1"});
+  expect_error(minimal_plus("[analysis.fields]\nevery = 0\n"), {"analysis.fields.every"});
+  expect_error(minimal_plus("[analysis.fields]\nspecies = [\"B\"]\n"), {"analysis.fields.species", "unknown species \"B\""});
+  expect_error(minimal_plus("[analysis.fields]\nexclude = [\"A\"]\n"), {"analysis.fields.exclude", "leaves no species"});
+  expect_error(minimal_plus(two_species + "[analysis.fields]\nspecies = [\"A\"]\nexclude = [\"W\"]\n"),
+               {"analysis.fields.exclude", "not allowed together"});
+  expect_error(minimal_plus("[analysis.fields]\nspecies = [\"A\", \"A\"]\n"), {"listed twice"});
+  expect_error(minimal_plus("[analysis.fields]\ncentre = \"q\"\n"), {"analysis.fields.centre", "\"x\""});
+  expect_error(minimal_plus("[analysis.fields]\nfit = \"slab\"\nbins = [4, 1, 20]\n"),
+               {"analysis.fields.fit", "exactly one axis"});
+  expect_error(minimal_plus("[analysis.fields]\nfit = \"slab\"\nbins = [1, 1, 4]\n"), {"analysis.fields.bins[2] = 4", ">= 8"});
+  expect_error(minimal_plus("[analysis.fields]\nname = \"a/b\"\n"), {"analysis.fields.name", "letters"});
+  expect_error(minimal_plus("[[analysis.fields]]\nbins = [2, 1, 1]\n\n[[analysis.fields]]\nbins = [1, 2, 1]\n"),
+               {"analysis.fields[1].name = \"fields\"", "also the name of analysis.fields[0]"});
+  expect_error(minimal_plus("[analysis.fields]\nbinz = [2, 1, 1]\n"), {"analysis.fields.binz", "analysis.fields.bins"});
+  expect_error(minimal_plus("[analysis]\nfields = 3\n"), {"analysis.fields", "array of tables"});
+}
+
 }  // namespace
 }  // namespace mesodpd

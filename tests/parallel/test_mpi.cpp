@@ -65,7 +65,8 @@ std::string fluid_config(const std::string& extra) {
 const char* kOutput =
     "[output]\nthermo_every = 100\nprogress = false\n\n"
     "[output.dump]\nevery = 500\nfields = [\"id\", \"species\", \"position\", \"velocity\", \"force\", \"image\"]\n\n"
-    "[analysis.msd]\nevery = 100\n";
+    "[analysis.msd]\nevery = 100\n\n"
+    "[analysis.fields]\nbins = [4, 1, 8]\nevery = 50\ncentre = \"z\"\n";
 
 void write(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
@@ -111,18 +112,18 @@ TEST(Mpi, TrajectoriesAreBitIdenticalOnOneTwoFourAndEightRanks) {
   const Result hybrid = mpirun(dir, 2, "run hybrid.toml --out hybrid", 2);
   ASSERT_EQ(hybrid.code, 0) << hybrid.out << hybrid.err;
   EXPECT_NE(hybrid.out.find("2 thread(s) per rank"), std::string::npos) << hybrid.out;
-  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv", "fields.vti", "fields.csv"})
     EXPECT_EQ(read_all(dir / "hybrid" / file), read_all(dir / "r1" / file)) << file << " differs with 2 x 2 threads";
   // Without mpirun the program is a one-rank run too, and gives the same files.
   const std::string plain = "cd '" + dir.string() + "' && OMP_NUM_THREADS=2 timeout 300 '" +
                             mesodpd::test::mesodpd_bin() + "' run r1.toml --out plain > plain.txt 2>&1";
   ASSERT_EQ(std::system(plain.c_str()), 0) << read_all(dir / "plain.txt");
-  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv", "fields.vti", "fields.csv"})
     EXPECT_EQ(read_all(dir / "plain" / file), read_all(dir / "r1" / file)) << file << " differs without mpirun";
   for (const Case& c : cases) {
     if (c.ranks == 1) continue;
     const std::string name = fmt::format("r{}", c.ranks);
-    for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv"})
+    for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "msd.csv", "fields.vti", "fields.csv"})
       EXPECT_EQ(read_all(dir / name / file), read_all(dir / "r1" / file)) << file << " differs on " << c.ranks << " ranks";
   }
   // The particles really crossed domains: the mean squared displacement at the end exceeds the square of
@@ -176,7 +177,7 @@ TEST(Mpi, RestartOnADifferentRankCount) {
   ASSERT_EQ(mpirun(dir, 4, "run c.toml --out b --steps 1000").code, 0);
   fs::copy_file(dir / "b" / "checkpoint.mdpd", dir / "b1000.mdpd");
   ASSERT_EQ(mpirun(dir, 1, "run c.toml --out b --restart b1000.mdpd").code, 0);
-  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj"}) {
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "fields.vti", "fields.csv"}) {
     EXPECT_EQ(read_all(dir / "a" / file), read_all(dir / "whole" / file)) << file << " (2 -> 4 ranks)";
     EXPECT_EQ(read_all(dir / "b" / file), read_all(dir / "whole" / file)) << file << " (4 -> 1 rank)";
   }
@@ -257,13 +258,15 @@ TEST(Mpi, EveryFeatureWorksUnderDecomposition) {
       "[output.dump]\nformat = \"gsd\"\nevery = 200\nfields = [\"id\", \"species\", \"position\", \"velocity\", "
       "\"force\", \"image\"]\n\n"
       "[poiseuille]\nforce = 0.02\nstart = 100\nevery = 5\nblocks = 4\n\n"
-      "[analysis.rdf]\nevery = 100\n\n[analysis.msd]\nevery = 100\n";
+      "[analysis.rdf]\nevery = 100\n\n[analysis.msd]\nevery = 100\n\n"
+      "[[analysis.fields]]\nname = \"map\"\nbins = [8, 1, 9]\nevery = 5\nexclude = [\"B\"]\n\n"
+      "[[analysis.fields]]\nname = \"part\"\nbins = [3, 7, 2]\nlo = [1.5, 0, 2]\nhi = [7.5, 7, 8]\nevery = 20\n";
   write(dir / "f.toml", cfg);
   ASSERT_EQ(mpirun(dir, 1, "run f.toml --out one").code, 0);
   const Result r = mpirun(dir, 3, "run f.toml --out three");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.gsd", "poiseuille_profile.csv", "rdf.csv",
-                           "msd.csv", "viscosity.json"})
+                           "msd.csv", "viscosity.json", "map.vti", "map.csv", "part.vti", "part.csv"})
     EXPECT_EQ(read_all(dir / "three" / file), read_all(dir / "one" / file)) << file;
   // The Verlet list really was reused between rebuilds (so ghosts were refreshed, not rebuilt).
   const auto rows = thermo_rows(dir / "three" / "thermo.csv");
