@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checks scripts/chain_analysis.py (run by test_chain_analysis).
+"""Checks tools/chain_analysis.py (run by ChainAnalysis.GsdTrajectoryHoldsTheTopologyAndIsMeasured in tests/physics/test_bonds.cpp).
 
 1. Synthetic rods with known answers: straight rods of N beads at spacing b rotating rigidly in the
    xy plane at angular speed w: R_g^2 = b^2 (N^2 - 1) / 12, R_e^2 = ((N - 1) b)^2, every bond b long,

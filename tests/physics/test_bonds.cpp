@@ -450,7 +450,7 @@ TEST(Bonded, DataFileTopologyRunsAndTypesNeedParameters) {
   fs::remove_all(dir);
 }
 
-// The GSD trajectory holds bonds, angles and molecule ids, and scripts/chain_analysis.py measures it
+// The GSD trajectory holds bonds, angles and molecule ids, and tools/chain_analysis.py measures it
 // (and measures synthetic rigid rods exactly: tests/analysis/check_chain_analysis.py).
 TEST(ChainAnalysis, GsdTrajectoryHoldsTheTopologyAndIsMeasured) {
   if (std::system("/usr/bin/python3 -c 'import numpy, gsd.hoomd, matplotlib' >/dev/null 2>&1") != 0)
@@ -464,7 +464,7 @@ TEST(ChainAnalysis, GsdTrajectoryHoldsTheTopologyAndIsMeasured) {
                  o);
   sim.run();
   const std::string cmd = "/usr/bin/python3 -W ignore '" + test::source_dir() + "/tests/analysis/check_chain_analysis.py' '" +
-                          test::source_dir() + "/scripts' '" + (dir / "check").string() + "' '" +
+                          test::source_dir() + "/tools' '" + (dir / "check").string() + "' '" +
                           (dir / "run" / "trajectory.gsd").string() + "' 210 190 > '" + (dir / "log.txt").string() +
                           "' 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << test::read_file(dir / "log.txt");

@@ -11,7 +11,7 @@ Bonds and angles come from the file's bonds/ and angles/ chunks (mesodpd writes 
 frame). A molecule kind is the sequence of bead species of a molecule (e.g. "A10", "H1T4"); molecules
 of one [[molecule]] block share it.
 
-    /usr/bin/python3 scripts/chain_analysis.py OUT/trajectory.gsd --dt 0.04 --out OUT/chains [--skip N]
+    /usr/bin/python3 tools/chain_analysis.py OUT/trajectory.gsd --dt 0.04 --out OUT/chains [--skip N]
 
 Definitions: R_g^2 = mean over beads of |r - r_cm|^2 (unwrapped positions); R_e = r(last bead) -
 r(first bead) in id order (for a branched molecule: first to last id); C_e(t) = <R_e(t0) . R_e(t0 + t)>
