@@ -15,6 +15,8 @@
 #include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
 #include "io/config.hpp"
+#include "mesodpd/flow_numbers.hpp"
+#include "mesodpd/units.hpp"
 #include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/openmp_wait.hpp"
@@ -84,6 +86,40 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   return 0;
 }
 
+// `mesodpd units`: the mapping, then the requested conversions.
+int units_command(const mesodpd::units::PhysicalSystem& phys, const std::vector<std::string>& to_si,
+                  const std::vector<std::string>& from_si) {
+  using namespace mesodpd::units;
+  Mapping m;
+  try {
+    m = map_units(phys);
+  } catch (const std::invalid_argument& e) {
+    throw mesodpd::ConfigError(fmt::format("units: {}", e.what()));
+  }
+  fmt::print("{}", format_mapping(m));
+  auto convert = [&](const std::string& arg, bool to) {
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) throw mesodpd::ConfigError(fmt::format("{}: expected QUANTITY=VALUE", arg));
+    const std::string q = arg.substr(0, eq);
+    double v = 0;
+    try {
+      v = std::stod(arg.substr(eq + 1));
+      std::string symbol;
+      for (const auto& [name, s] : quantities())
+        if (name == q) symbol = s;
+      if (to)
+        fmt::print("{} = {} (DPD) = {:.6g} {}\n", q, v, m.to_si(v, q), symbol);
+      else
+        fmt::print("{} = {} {} = {:.6g} (DPD)\n", q, v, symbol, m.from_si(v, q));
+    } catch (const std::invalid_argument& e) {
+      throw mesodpd::ConfigError(fmt::format("{}: {}", arg, e.what()));
+    }
+  };
+  for (const std::string& a : to_si) convert(a, true);
+  for (const std::string& a : from_si) convert(a, false);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,6 +147,31 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a configuration file and exit");
   check->add_option("config", check_config, "TOML configuration file")->required();
 
+  // The units mapper (include/mesodpd/units.hpp): physical liquid -> DPD parameters and SI units.
+  mesodpd::units::PhysicalSystem phys;
+  bool water = false;
+  std::vector<std::string> to_si, from_si;
+  auto* units = app.add_subcommand("units", "map a physical liquid to DPD parameters and units (docs/units.md)");
+  units->add_flag("--water", water, "water at 300 K (fills what is not given; the worked example)");
+  units->add_option("--nm", phys.coarse_graining, "molecules per DPD bead N_m (default 1)");
+  units->add_option("--temperature", phys.temperature, "temperature in K (default 300)");
+  units->add_option("--molar-mass", phys.molar_mass, "molar mass in kg/mol");
+  units->add_option("--molecular-volume", phys.molecular_volume, "volume per molecule in m^3");
+  units->add_option("--mass-density", phys.mass_density, "mass density in kg/m^3");
+  units->add_option("--kappa-inv", phys.inverse_compressibility, "dimensionless inverse compressibility");
+  units->add_option("--compressibility", phys.isothermal_compressibility, "isothermal compressibility in 1/Pa");
+  units->add_option("--viscosity", phys.viscosity, "shear viscosity in Pa s");
+  units->add_option("--diffusion", phys.self_diffusion, "self-diffusion of one molecule in m^2/s");
+  units->add_option("--chi", phys.chi, "Flory-Huggins chi between two components (per bead)");
+  units->add_option("--density", phys.dpd_density, "DPD number density rho (default 3)");
+  units->add_option("--alpha", phys.alpha, "EOS coefficient (default: measured alpha(rho))");
+  units->add_option("--gamma", phys.gamma, "DPD gamma for the transport estimates (default 4.5)");
+  units->add_option("--dpd-viscosity", phys.dpd_viscosity, "measured viscosity of the DPD fluid (reduced)");
+  units->add_option("--dpd-diffusion", phys.dpd_diffusion, "measured self-diffusion of the DPD fluid (reduced)");
+  units->add_option("--time-from", phys.time_from, "auto | viscosity | diffusion | thermal (default auto)");
+  units->add_option("--to-si", to_si, "QUANTITY=VALUE: a DPD value in SI (repeatable)");
+  units->add_option("--from-si", from_si, "QUANTITY=VALUE: an SI value in DPD units (repeatable)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -134,7 +195,23 @@ int main(int argc, char** argv) {
       const std::uint64_t n = mesodpd::check_initial_state(spec);
       fmt::print("{}: valid ({} species, {} particles{})\n", check_config, spec.species.size(), n,
                  spec.data_file.empty() ? "" : " from " + spec.data_file);
+      // What a user should know before the run: Reynolds, Schmidt and Mach numbers, dt for the thermostat.
+      fmt::print("{}", mesodpd::format_flow_numbers(mesodpd::flow_numbers(spec)));
       return 0;
+    }
+    if (*units) {
+      if (water) {
+        const mesodpd::units::PhysicalSystem w = mesodpd::units::water_300k();
+        if (!phys.molar_mass && !phys.molecular_volume && !phys.mass_density) {
+          phys.molar_mass = w.molar_mass;
+          phys.mass_density = w.mass_density;
+        }
+        if (!phys.inverse_compressibility && !phys.isothermal_compressibility)
+          phys.isothermal_compressibility = w.isothermal_compressibility;
+        if (!phys.viscosity) phys.viscosity = w.viscosity;
+        if (!phys.self_diffusion) phys.self_diffusion = w.self_diffusion;
+      }
+      return units_command(phys, to_si, from_si);
     }
   } catch (const mesodpd::ConfigError& e) {
     // Configuration errors are found identically on every rank (or shared by Comm::on_root).

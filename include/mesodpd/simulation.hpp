@@ -11,6 +11,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "mesodpd/spec.hpp"
 #include "mesodpd/validate.hpp"
@@ -23,6 +24,10 @@ struct Options {
   std::filesystem::path restart;             // continue from this checkpoint file; empty: a new run
   std::optional<std::uint64_t> final_step;   // where run() stops, instead of spec.steps
   bool progress = false;                     // progress bar on the terminal
+  // Measure thermo rows, profile, RDF and MSD (as the spec configures them) and keep them in memory
+  // even without an output_dir (thermo_history(), profile(), rdf(), msd()). With an output_dir they are
+  // always kept. Does not change the trajectory.
+  bool record = false;
 };
 
 // The run went unstable (NaN, or a particle faster than spec.max_velocity); the state is that of the
@@ -64,6 +69,48 @@ struct Particles {
   std::span<const std::int32_t> ix, iy, iz;   // image counters: unwrapped x = x + ix * box[0]
 };
 
+// The whole system in increasing id order (a copy, gathered from every rank to rank 0).
+struct Snapshot {
+  std::vector<std::uint32_t> id;
+  std::vector<std::int32_t> species;
+  std::vector<double> x, y, z, vx, vy, vz, fx, fy, fz;
+  std::vector<std::int32_t> ix, iy, iz;
+};
+
+// The reverse-Poiseuille velocity profile averaged so far and the viscosity fitted to it
+// (analysis/velocity_profile.hpp): mean flow velocity per bin of the gradient coordinate.
+struct Profile {
+  int flow_axis = 0, gradient_axis = 2;       // 0, 1, 2 = x, y, z
+  std::vector<double> z, v_mean, v_err, v_fit;  // bin centres, mean, standard error (NaN < 2 blocks), fit
+  double eta = 0, eta_err = 0;                // fitted shear viscosity and its block error (NaN if unknown)
+  int blocks_used = 0;
+  std::uint64_t samples = 0;
+};
+
+// g(r) averaged over the samples so far.
+struct Rdf {
+  std::vector<double> r, g;  // bin centres, g(r)
+  std::uint64_t samples = 0;
+};
+
+// Mean squared displacement against lag time, and D from its slope (analysis/msd.hpp).
+struct Msd {
+  std::vector<double> time, msd;
+  double diffusion = 0;  // NaN when too few points
+};
+
+// One [analysis.fields] grid averaged so far (analysis/binned_fields.hpp). Per-cell arrays have
+// bins[0] x bins[1] x bins[2] entries, x fastest.
+struct Fields {
+  std::string name;
+  std::array<int, 3> bins{1, 1, 1};
+  std::uint64_t samples = 0;
+  std::vector<double> x, y, z;          // cell centres (box coordinates)
+  std::vector<double> density;          // selected species, particles per volume
+  std::vector<double> vx, vy, vz;       // mass-weighted mean velocity
+  std::vector<double> temperature;      // mean of the three components' temperatures
+};
+
 class Simulation {
  public:
   // Validates `spec` (validate(); throws SpecError naming the key) and builds the initial state with
@@ -91,6 +138,26 @@ class Simulation {
   Thermo thermo();                             // collective under MPI: every rank calls it
   // The full dynamic state; a run restarted from it (Options::restart) continues bit-identically.
   void write_checkpoint(const std::filesystem::path& file) const;
+  // What run() does after its last step, at the current step: the final checkpoint and analysis files
+  // (with an output_dir) and the summary text (on rank 0). May be called more than once.
+  std::string finish();
+
+  // MPI rank of this process and the number of ranks (0 and 1 without MPI).
+  int rank() const;
+  int ranks() const;
+  // The whole system in id order. Collective under MPI: every rank calls it; rank 0 gets the data,
+  // the others an empty Snapshot.
+  Snapshot gather() const;
+  // The thermo rows measured so far in this process (every thermo_every steps, with an output_dir or
+  // Options::record; a restarted run's history starts at the checkpoint). The same on every rank.
+  std::vector<Thermo> thermo_history() const;
+  // The analyses configured in the spec and measured so far; nullopt when not configured or not
+  // measured (no output_dir and no Options::record). Collective: every rank gets rank 0's values.
+  std::optional<Profile> profile() const;
+  std::optional<Rdf> rdf() const;
+  std::optional<Msd> msd() const;
+  // The [analysis.fields] grids, in spec order (empty without them or without measurement).
+  std::vector<Fields> fields() const;
 
  private:
   struct Impl;

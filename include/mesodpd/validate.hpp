@@ -17,12 +17,11 @@ inline constexpr int kMaxThreads = 1024;
 class SpecError : public ConfigError {
  public:
   SpecError(std::string key, std::string value, std::string why);
-  const std::string& key() const { return key_; }
   const std::string& value() const { return value_; }
   const std::string& why() const { return why_; }
 
  private:
-  std::string key_, value_, why_;
+  std::string value_, why_;
 };
 
 // Checks every value of `spec` against its allowed range and the others it depends on, and fills what

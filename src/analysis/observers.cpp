@@ -100,7 +100,7 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
   const bool restarted = opt_.restarted;
   if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
   late_from_ = start.step + (opt_.final_step > start.step ? (opt_.final_step - start.step) / 2 : 0);
-  if (opt_.out_dir.empty()) return;
+  if (!measuring()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
     // The fluid's mass: integer counts per species (exact over ranks) times the species masses.
@@ -118,14 +118,16 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
                          start.box.periodic);
   // Files belong to the root; an error there stops every rank.
   comm.on_root([&] {
-    std::filesystem::create_directories(opt_.out_dir);
-    const auto thermo_path = out("thermo.csv");
-    if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, start.step);
-    const bool append =
-        restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
-    thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
-    if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
-    if (!append) thermo_ << thermo_csv_header() << '\n';
+    if (files()) {
+      std::filesystem::create_directories(opt_.out_dir);
+      const auto thermo_path = out("thermo.csv");
+      if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, start.step);
+      const bool append =
+          restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
+      thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
+      if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
+      if (!append) thermo_ << thermo_csv_header() << '\n';
+    }
     const Box& box = start.box;
     const double len[3] = {box.len.x, box.len.y, box.len.z};
     if (s.poiseuille.enabled)
@@ -134,7 +136,7 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
                        s.poiseuille.force, mass / box.volume());
     if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
     if (s.msd.enabled) msd_.emplace();
-    if (s.dump.enabled) {
+    if (s.dump.enabled && files()) {
       const bool gsd = s.dump.format == DumpFormat::Gsd;
       const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
       if (gsd) {
@@ -245,10 +247,11 @@ void Observers::observe(const StepContext& ctx) {
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = ctx.neighbor_builds;
-    if (comm.root()) {
+    if (comm.root() && files()) {
       thermo_ << thermo_csv_row(t) << '\n';
       thermo_.flush();
     }
+    history_.push_back(t);
     temperature_sum_ += t.temperature_transverse;
     if (step > late_from_) {
       late_temperature_sum_ += t.temperature_transverse;
@@ -260,8 +263,8 @@ void Observers::observe(const StepContext& ctx) {
   // The velocity profile is summed in integers, so each rank bins its own particles. The other
   // analyses see the whole system in id order (gathered on the root under MPI), so their sums are
   // taken in the same order whatever the rank count or storage order.
-  const bool files = !opt_.out_dir.empty();
-  const bool profile_due = files && s.poiseuille.enabled && step > s.poiseuille.start && step % s.poiseuille.every == 0;
+  const bool measure = measuring();
+  const bool profile_due = measure && s.poiseuille.enabled && step > s.poiseuille.start && step % s.poiseuille.every == 0;
   if (profile_due) {
     // Each rank bins its own particles into integer sums; only the per-bin totals travel.
     const ParticleData& own = ctx.particles;
@@ -276,10 +279,10 @@ void Observers::observe(const StepContext& ctx) {
     if (comm.root()) profile_->add_binned(profile_bins_.data());
   }
   for (BinnedFields& f : fields_)
-    if (files && step >= f.spec().start && step % f.spec().every == 0) f.sample(ctx.particles, comm, step);
-  const bool rdf_due = files && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
-  const bool msd_due = files && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
-  const bool dump_due = files && s.dump.enabled && step % s.dump.every == 0;
+    if (measure && step >= f.spec().start && step % f.spec().every == 0) f.sample(ctx.particles, comm, step);
+  const bool rdf_due = measure && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
+  const bool msd_due = measure && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
+  const bool dump_due = files() && s.dump.enabled && step % s.dump.every == 0;
   if (!(rdf_due || msd_due || dump_due)) return;
   // The whole system in increasing id on the root (collective).
   gather_by_id(ctx.particles, comm, ctx.total_particles, snapshot_);
@@ -308,6 +311,7 @@ std::string Observers::finish(const StepContext& ctx) {
   const SimulationSpec& s = spec_;
   std::string summary;
   if (!ctx.comm.root()) return summary;
+  warnings_.clear();  // finish() may be called again later in a longer run (the API)
   if (thermo_samples_ > 0) {
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
@@ -343,33 +347,35 @@ std::string Observers::finish(const StepContext& ctx) {
       const ViscosityFit fit = profile_->fit();
       summary += fmt::format(
           "reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} ({})\n", fit.eta, fit.eta_err, theory_text);
-      profile_->write_csv(out("poiseuille_profile.csv").string());
-      write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
-      nlohmann::ordered_json summary_json;  // keys in the order written
-      summary_json["eta"] = json_number(fit.eta);
-      summary_json["eta_err"] = json_number(fit.eta_err);
-      summary_json["eta_kinetic_theory"] = json_number(eta_theory);
-      summary_json["blocks"] = fit.blocks_used;
-      summary_json["samples"] = profile_->samples();
-      summary_json["density"] = json_number(rho);
-      summary_json["gamma"] = theory.applies ? json_number(theory.gamma) : nullptr;
-      summary_json["s"] = theory.applies ? json_number(theory.s) : nullptr;
-      summary_json["force"] = json_number(s.poiseuille.force);
-      write_file_atomically(out("viscosity.json"), [&](std::ostream& os) { os << summary_json.dump(2) << '\n'; });
-      SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
-      SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
-      const char* axes = "xyz";
-      write_svg_plot(out("velocity_profile.svg").string(), "Reverse Poiseuille flow: velocity profile",
-                     fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
-                     fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
-                     {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
-                      theory.applies ? fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", theory.eta)
-                                     : fmt::format("kinetic theory: none for {}", theory.why_not),
-                      theory.applies && one_a
-                          ? fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho,
-                                        s.pairs.front().a, theory.gamma, theory.s, s.poiseuille.force)
-                          : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
-                                        s.poiseuille.force)});
+      if (files()) {
+        profile_->write_csv(out("poiseuille_profile.csv").string());
+        write_viscosity_summary_csv(out("viscosity.csv").string(), fit, eta_theory);
+        nlohmann::ordered_json summary_json;  // keys in the order written
+        summary_json["eta"] = json_number(fit.eta);
+        summary_json["eta_err"] = json_number(fit.eta_err);
+        summary_json["eta_kinetic_theory"] = json_number(eta_theory);
+        summary_json["blocks"] = fit.blocks_used;
+        summary_json["samples"] = profile_->samples();
+        summary_json["density"] = json_number(rho);
+        summary_json["gamma"] = theory.applies ? json_number(theory.gamma) : nullptr;
+        summary_json["s"] = theory.applies ? json_number(theory.s) : nullptr;
+        summary_json["force"] = json_number(s.poiseuille.force);
+        write_file_atomically(out("viscosity.json"), [&](std::ostream& os) { os << summary_json.dump(2) << '\n'; });
+        SvgSeries data{profile_->z(), profile_->v_mean(), profile_->v_err(), "measured", "#1f77b4", false, true};
+        SvgSeries model{profile_->z(), profile_->v_fit(), {}, "parabolic fit", "#d62728", true, false};
+        const char* axes = "xyz";
+        write_svg_plot(out("velocity_profile.svg").string(), "Reverse Poiseuille flow: velocity profile",
+                       fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
+                       fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
+                       {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
+                        theory.applies ? fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", theory.eta)
+                                       : fmt::format("kinetic theory: none for {}", theory.why_not),
+                        theory.applies && one_a
+                            ? fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho,
+                                          s.pairs.front().a, theory.gamma, theory.s, s.poiseuille.force)
+                            : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
+                                          s.poiseuille.force)});
+      }
     }
   }
   for (const BinnedFields& f : fields_) {
@@ -377,11 +383,11 @@ std::string Observers::finish(const StepContext& ctx) {
       summary += fmt::format("{}: no samples (run longer than analysis.fields.start)\n", f.spec().name);
       continue;
     }
-    summary += f.write(opt_.out_dir);
+    if (files()) summary += f.write(opt_.out_dir);
   }
-  if (rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
+  if (files() && rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
   if (msd_ && msd_->size() > 2) {
-    msd_->write_csv(out("msd.csv").string());
+    if (files()) msd_->write_csv(out("msd.csv").string());
     summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());
   }
   if (progress_) progress_->finish();

@@ -11,6 +11,7 @@
 #include "analysis/binned_fields.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
+#include "analysis/thermo.hpp"
 #include "analysis/velocity_profile.hpp"
 #include "core/stage.hpp"
 #include "io/byte_buffer.hpp"
@@ -37,6 +38,9 @@ struct ObserverSettings {
   bool progress = false;           // progress bar or log lines on the root
   bool restarted = false;          // continuing from a checkpoint: append to existing files
   std::uint64_t final_step = 0;    // for the progress bar
+  // Measure (thermo rows, profile, RDF, MSD) and keep the results in memory even without an output
+  // directory: for programs that read them through the API (the Python module) rather than from files.
+  bool record = false;
 };
 
 class Observers final : public Stage {
@@ -63,8 +67,21 @@ class Observers final : public Stage {
   // Warnings found by finish() (on the root), each also a "warning: " line of the summary.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
+  // Results so far, for the API. The thermo rows of this process's run (every rank holds them all; a
+  // restarted run starts a new history at the checkpoint's step, thermo.csv keeps the whole run).
+  // The analyses exist on the root only, and only when configured and measured (an output directory
+  // or ObserverSettings::record); elsewhere these return nullptr.
+  const std::vector<ThermoState>& history() const { return history_; }
+  const PoiseuilleProfile* profile() const { return profile_ ? &*profile_ : nullptr; }
+  const RadialDistribution* rdf() const { return rdf_ ? &*rdf_ : nullptr; }
+  const MeanSquaredDisplacement* msd() const { return msd_ ? &*msd_ : nullptr; }
+  // The [analysis.fields] grids (the same totals on every rank).
+  const std::vector<BinnedFields>& fields() const { return fields_; }
+
  private:
-  bool thermo_due(std::uint64_t step) const { return !opt_.out_dir.empty() && step % spec_.thermo_every == 0; }
+  bool files() const { return !opt_.out_dir.empty(); }
+  bool measuring() const { return files() || opt_.record; }
+  bool thermo_due(std::uint64_t step) const { return measuring() && step % spec_.thermo_every == 0; }
   std::filesystem::path out(const std::string& name) const { return opt_.out_dir / name; }
   void write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& all);
 
@@ -84,6 +101,7 @@ class Observers final : public Stage {
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
   std::vector<std::string> warnings_;
+  std::vector<ThermoState> history_;
   // Thermo rows after the midpoint of this run (not of the runs before a restart), for the warning.
   std::uint64_t late_from_ = 0, late_samples_ = 0;
   double late_temperature_sum_ = 0;

@@ -20,8 +20,7 @@
 namespace mesodpd {
 
 SpecError::SpecError(std::string key, std::string value, std::string why)
-    : ConfigError(value.empty() ? fmt::format("{}: {}", key, why) : fmt::format("{} = {}: {}", key, value, why)),
-      key_(std::move(key)),
+    : ConfigError(value.empty() ? fmt::format("{}: {}", key, why) : fmt::format("{} = {}: {}", key, value, why), key),
       value_(std::move(value)),
       why_(std::move(why)) {}
 

@@ -2,7 +2,10 @@
 // its types into the public ones, so that engine headers stay private.
 #include <omp.h>
 
+#include "analysis/observers.hpp"
 #include "engine/simulation.hpp"
+#include "io/byte_buffer.hpp"
+#include "parallel/halo.hpp"
 #include "mesodpd/simulation.hpp"
 
 namespace mesodpd::api {
@@ -31,6 +34,7 @@ Simulation::Simulation(SimulationSpec spec, Options options) {
   run.restart = std::move(options.restart);
   run.steps = options.final_step;
   run.progress = options.progress;
+  run.record = options.record;
   impl_ = std::make_unique<Impl>(validated(std::move(spec)), std::move(run));
 }
 
@@ -73,8 +77,8 @@ Particles Simulation::particles() const {
                    owned(p.fz, n), owned(p.ix, n),      owned(p.iy, n), owned(p.iz, n)};
 }
 
-Thermo Simulation::thermo() {
-  const ThermoState s = impl_->engine.thermo();
+namespace {
+Thermo to_public(const ThermoState& s) {
   Thermo t;
   t.step = s.step;
   t.time = s.time;
@@ -87,6 +91,161 @@ Thermo Simulation::thermo() {
   t.potential_energy = s.potential_energy;
   t.kinetic_energy = s.kinetic_energy;
   return t;
+}
+
+// Rank 0's value of an analysis on every rank: `fill` writes it on the root (returns false when there
+// is none), `read` rebuilds it from the bytes.
+template <class T, class Fill, class Read>
+std::optional<T> from_root(const Comm& comm, Fill fill, Read read) {
+  std::vector<std::byte> bytes;
+  if (comm.root()) {
+    ByteWriter w;
+    if (fill(w)) bytes = w.take();
+  }
+  if (comm.distributed()) comm.broadcast(bytes);
+  if (bytes.empty()) return std::nullopt;
+  ByteReader r(bytes, "broadcast");
+  return read(r);
+}
+}  // namespace
+
+Thermo Simulation::thermo() { return to_public(impl_->engine.thermo()); }
+
+std::string Simulation::finish() { return impl_->engine.finish(); }
+int Simulation::rank() const { return impl_->engine.halo().comm().rank(); }
+int Simulation::ranks() const { return impl_->engine.halo().comm().size(); }
+
+Snapshot Simulation::gather() const {
+  const mesodpd::Simulation& e = impl_->engine;
+  const ParticleData all = gather_by_id(e.particles(), e.halo().comm(), e.total_particles());
+  Snapshot s;
+  if (!e.halo().comm().root()) return s;
+  const std::size_t n = all.n_local;
+  auto take = [n](const auto& v) { return std::vector(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n)); };
+  s.id = take(all.id);
+  s.species = take(all.species);
+  s.x = take(all.x);
+  s.y = take(all.y);
+  s.z = take(all.z);
+  s.vx = take(all.vx);
+  s.vy = take(all.vy);
+  s.vz = take(all.vz);
+  s.fx = take(all.fx);
+  s.fy = take(all.fy);
+  s.fz = take(all.fz);
+  s.ix = take(all.ix);
+  s.iy = take(all.iy);
+  s.iz = take(all.iz);
+  return s;
+}
+
+std::vector<Thermo> Simulation::thermo_history() const {
+  std::vector<Thermo> out;
+  for (const ThermoState& t : impl_->engine.observers().history()) out.push_back(to_public(t));
+  return out;
+}
+
+std::optional<Profile> Simulation::profile() const {
+  const Observers& o = impl_->engine.observers();
+  return from_root<Profile>(
+      impl_->engine.halo().comm(),
+      [&](ByteWriter& w) {
+        const PoiseuilleProfile* p = o.profile();
+        if (!p) return false;
+        const ViscosityFit fit = p->fit();
+        w.put<std::int32_t>(p->flow_axis());
+        w.put<std::int32_t>(p->gradient_axis());
+        w.put_vector(p->z());
+        w.put_vector(p->v_mean());
+        w.put_vector(p->v_err());
+        w.put_vector(p->v_fit());
+        w.put<double>(fit.eta);
+        w.put<double>(fit.eta_err);
+        w.put<std::int32_t>(fit.blocks_used);
+        w.put<std::uint64_t>(p->samples());
+        return true;
+      },
+      [](ByteReader& r) {
+        Profile p;
+        p.flow_axis = r.get<std::int32_t>();
+        p.gradient_axis = r.get<std::int32_t>();
+        p.z = r.get_vector<double>();
+        p.v_mean = r.get_vector<double>();
+        p.v_err = r.get_vector<double>();
+        p.v_fit = r.get_vector<double>();
+        p.eta = r.get<double>();
+        p.eta_err = r.get<double>();
+        p.blocks_used = r.get<std::int32_t>();
+        p.samples = r.get<std::uint64_t>();
+        return p;
+      });
+}
+
+std::optional<Rdf> Simulation::rdf() const {
+  const Observers& o = impl_->engine.observers();
+  return from_root<Rdf>(
+      impl_->engine.halo().comm(),
+      [&](ByteWriter& w) {
+        const RadialDistribution* g = o.rdf();
+        if (!g) return false;
+        w.put_vector(g->r());
+        w.put_vector(g->g());
+        w.put<std::uint64_t>(g->samples());
+        return true;
+      },
+      [](ByteReader& r) {
+        Rdf g;
+        g.r = r.get_vector<double>();
+        g.g = r.get_vector<double>();
+        g.samples = r.get<std::uint64_t>();
+        return g;
+      });
+}
+
+std::vector<Fields> Simulation::fields() const {
+  std::vector<Fields> out;
+  for (const BinnedFields& b : impl_->engine.observers().fields()) {
+    Fields f;
+    f.name = b.spec().name;
+    f.bins = b.spec().bins;
+    f.samples = b.samples();
+    for (std::size_t c = 0; c < b.cells(); ++c) {
+      const std::array<double, 3> r = b.centre(c);
+      f.x.push_back(r[0]);
+      f.y.push_back(r[1]);
+      f.z.push_back(r[2]);
+    }
+    if (b.samples() > 0) {
+      f.density = b.density();
+      f.vx = b.velocity(0);
+      f.vy = b.velocity(1);
+      f.vz = b.velocity(2);
+      f.temperature = b.temperature(-1);
+    }
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+std::optional<Msd> Simulation::msd() const {
+  const Observers& o = impl_->engine.observers();
+  return from_root<Msd>(
+      impl_->engine.halo().comm(),
+      [&](ByteWriter& w) {
+        const MeanSquaredDisplacement* m = o.msd();
+        if (!m) return false;
+        w.put_vector(m->time());
+        w.put_vector(m->msd());
+        w.put<double>(m->diffusion_coefficient());
+        return true;
+      },
+      [](ByteReader& r) {
+        Msd m;
+        m.time = r.get_vector<double>();
+        m.msd = r.get_vector<double>();
+        m.diffusion = r.get<double>();
+        return m;
+      });
 }
 
 void Simulation::write_checkpoint(const std::filesystem::path& file) const { impl_->engine.write_checkpoint(file); }

@@ -95,7 +95,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   observers_ = &stages_.add(StagePoint::EndOfStep,
                             std::make_unique<Observers>(spec_,
                                                         ObserverSettings{options_.out_dir, options_.progress,
-                                                                         restarted, final_step_},
+                                                                         restarted, final_step_, options_.record},
                                                         context()));
   if (!pending_observer_state_.empty()) {
     ByteReader r(pending_observer_state_, options_.restart.string());
@@ -331,12 +331,17 @@ std::string Simulation::run() {
   const double t0 = omp_get_wtime();
   const double bonded0 = bonded_seconds_;
   while (step_ < final_step_) step();
-  const double wall = omp_get_wtime() - t0;
+  run_wall_seconds_ = omp_get_wtime() - t0;
+  run_bonded_seconds_ = bonded_seconds_ - bonded0;
+  return finish();
+}
+
+std::string Simulation::finish() {
   std::string summary;
-  if (!bonds_.empty() && halo_.comm().root() && wall > 0)
+  if (!bonds_.empty() && halo_.comm().root() && run_wall_seconds_ > 0)
     summary += fmt::format("bonded forces: {} bonds, {} angles, {:.3g} s of {:.3g} s ({:.1f}% of the steps)\n",
-                           bonds_.topology().bonds.size(), bonds_.topology().angles.size(), bonded_seconds_ - bonded0,
-                           wall, 100.0 * (bonded_seconds_ - bonded0) / wall);
+                           bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
+                           run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   if (observers_) summary += observers_->finish(context());
   return summary;

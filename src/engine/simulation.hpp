@@ -43,6 +43,7 @@ struct RunOptions {
   std::optional<std::uint64_t> steps;            // overrides run.steps (the final step number)
   std::filesystem::path restart;                 // continue from this checkpoint
   bool progress = false;                         // progress bar (terminal) or log lines
+  bool record = false;  // measure and keep thermo rows and analyses in memory even without out_dir
 };
 
 class Observers;  // measurements and writers (analysis/observers.hpp)
@@ -57,6 +58,11 @@ class Simulation {
   // Advances to the final step (run.steps or the override), measuring and writing as configured,
   // then writes the final checkpoint and summaries. Returns a short human-readable summary.
   std::string run();
+  // What run() does after its last step: the final checkpoint (with out_dir) and the analysis
+  // summaries (files with out_dir; the text on the root). May be called at any step, more than once.
+  std::string finish();
+  // The measurements (thermo history, analyses; see Observers) for the API.
+  const Observers& observers() const { return *observers_; }
   // Warnings about the finished run (on the root rank; also in run()'s summary): a mean temperature
   // away from kT. The command line prints them to stderr.
   const std::vector<std::string>& warnings() const;
@@ -133,6 +139,7 @@ class Simulation {
   std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;
   double bonded_seconds_ = 0;  // wall time in BondedForces::compute (run summary)
+  double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
   StageList stages_;                 // owns the stages, the observers among them
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
 };

@@ -129,7 +129,7 @@ class Section {
         hint = fmt::format("; valid keys {}: {}", path_.empty() ? "at top level" : "in [" + path_ + "]",
                            join(allowed_));
       }
-      throw ConfigError(fmt::format("{}unknown key '{}'{}", at(key.source()), name(k), hint));
+      throw ConfigError(fmt::format("{}unknown key '{}'{}", at(key.source()), name(k), hint), name(k));
     }
   }
 
@@ -154,14 +154,14 @@ class Section {
 
   // `key` may carry an index suffix ("box[1]") when `n` is an array element.
   [[noreturn]] void bad(std::string_view key, const toml::node& n, std::string_view why) const {
-    throw ConfigError(fmt::format("{}{} = {}: {}", at(n.source()), name(key), show(n), why));
+    throw ConfigError(fmt::format("{}{} = {}: {}", at(n.source()), name(key), show(n), why), name(key));
   }
   [[noreturn]] void bad(std::string_view key, std::string_view why) const { bad(key, *get(key), why); }
   [[noreturn]] void wrong_type(std::string_view key, const toml::node& n, std::string_view expected) const {
     bad(key, n, fmt::format("expected {}, got {}", expected, type_name(n)));
   }
   [[noreturn]] void missing(std::string_view key, std::string_view why = {}) const {
-    throw ConfigError(fmt::format("{}missing required key '{}'{}", at(table_->source()), name(key), why));
+    throw ConfigError(fmt::format("{}missing required key '{}'{}", at(table_->source()), name(key), why), name(key));
   }
 
   std::optional<double> real(std::string_view key) const {
@@ -654,9 +654,10 @@ ConfigError located(const SpecError& e, const Positions& positions, const std::s
   std::string where = source + ": ";
   if (at != positions.end() && at->second.begin.line != 0)
     where = fmt::format("{}:{}:{}: ", source, at->second.begin.line, at->second.begin.column);
-  if (e.value().empty()) return ConfigError(fmt::format("{}{}: {}", where, e.key(), e.why()));
+  if (e.value().empty()) return ConfigError(fmt::format("{}{}: {}", where, e.key(), e.why()), e.key());
   return ConfigError(fmt::format("{}{} = {}{}: {}", where, e.key(), e.value(),
-                                 written == positions.end() ? " (default)" : "", e.why()));
+                                 written == positions.end() ? " (default)" : "", e.why()),
+                     e.key());
 }
 
 }  // namespace

@@ -1,0 +1,267 @@
+"""The Simulation class: build a run from a Spec, advance it, steer it with callbacks, read its state."""
+import os
+
+import numpy as np
+
+from . import _core
+from .errors import StopRun
+from .spec import Spec
+
+__all__ = ["Simulation", "LocalParticles"]
+
+_FIELDS = ("id", "species", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "ix", "iy", "iz")
+
+
+class LocalParticles:
+    """Zero-copy, read-only numpy views of the particles this MPI rank owns, in storage order.
+
+    Each attribute (``id``, ``species``, ``x``, ``y``, ``z``, ``vx``, ``vy``, ``vz``, ``fx``,
+    ``fy``, ``fz``, ``ix``, ``iy``, ``iz``) returns a view of the engine's own array at the moment
+    you ask. The engine re-sorts particles by cell at every step and may move them to other
+    buffers, so an array taken before a step must not be used after it: ask again (this object
+    stays valid and always gives the current state). ``position``, ``velocity``, ``force`` and
+    ``image`` are (N, 3) copies. Storage order is not id order: use ``id`` or Simulation.snapshot().
+    """
+
+    def __init__(self, sim):
+        self._sim = sim
+
+    def __len__(self):
+        return len(self._sim._core.local_view("id"))
+
+    def __getattr__(self, name):
+        if name in _FIELDS:
+            return self._sim._core.local_view(name)
+        raise AttributeError(f"LocalParticles has no attribute {name!r}; fields: {', '.join(_FIELDS)}")
+
+    def _stack(self, a, b, c):
+        v = self._sim._core.local_view
+        return np.stack([v(a), v(b), v(c)], axis=1)
+
+    @property
+    def position(self):
+        return self._stack("x", "y", "z")
+
+    @property
+    def velocity(self):
+        return self._stack("vx", "vy", "vz")
+
+    @property
+    def force(self):
+        return self._stack("fx", "fy", "fz")
+
+    @property
+    def image(self):
+        return self._stack("ix", "iy", "iz")
+
+
+class _Callback:
+    def __init__(self, fn, every):
+        self.fn = fn
+        self.every = every
+
+
+class Simulation:
+    """A DPD run (the C++ engine through mesodpd::api::Simulation).
+
+    ``Simulation(spec, out=None, restart=None, steps=None, threads=None, progress=False, record=True)``
+
+    - ``spec``: a Spec or a dict; validated by the C++ code (SpecError naming the key).
+    - ``out``: output directory; the same files as ``mesodpd run --out`` (thermo.csv, trajectory,
+      analyses, checkpoint.mdpd), byte for byte. None: no files.
+    - ``restart``: a checkpoint file to continue from (bit-identical continuation).
+    - ``steps``: the final step number, instead of the spec's run.steps (like ``--steps``).
+    - ``threads``: OpenMP threads for this process (results do not depend on it).
+    - ``record``: measure thermo rows and the configured analyses (profile, RDF, MSD) in memory
+      even without ``out``, for thermo_history(), profile(), rdf(), msd().
+
+    Under MPI (``mpirun -np N python3 script.py`` with ``from mpi4py import MPI`` first) every rank
+    builds the same Simulation and calls the same methods; results do not depend on the rank count.
+    """
+
+    def __init__(self, spec, out=None, *, restart=None, steps=None, threads=None, progress=False, record=True):
+        self._spec = spec.copy() if isinstance(spec, Spec) else Spec(spec)
+        if threads is not None:
+            from . import set_threads
+            set_threads(threads)
+        validated = self._spec._validated()
+        if steps is not None and int(steps) < 0:
+            from .errors import SpecError
+            raise SpecError(f"steps = {steps}: must be >= 0", "run.steps")
+        self.out = os.fspath(out) if out is not None else None
+        self._core = _core.Simulation(validated, self.out or "", os.fspath(restart) if restart else "",
+                                      None if steps is None else int(steps), bool(progress), bool(record))
+        self._callbacks = []
+        self.stopped = False
+        self.particles = LocalParticles(self)
+
+    @classmethod
+    def from_toml(cls, path, out=None, **kwargs):
+        """Build from a TOML file (the same file ``mesodpd run`` takes)."""
+        return cls(Spec.from_toml(path), out, **kwargs)
+
+    @classmethod
+    def from_string(cls, text, out=None, **kwargs):
+        """Build from TOML text."""
+        return cls(Spec.from_string(text), out, **kwargs)
+
+    # ---- what the run is ----
+    @property
+    def spec(self):
+        """A copy of the Spec this run was built from (editing it does not change the run)."""
+        return self._spec.copy()
+
+    @property
+    def step(self):
+        """The current step number."""
+        return self._core.current_step()
+
+    @property
+    def final_step(self):
+        """Where run() without arguments stops: run.steps or the ``steps`` argument."""
+        return self._core.final_step()
+
+    @property
+    def time(self):
+        """step x dt."""
+        return self._core.time()
+
+    @property
+    def box(self):
+        return tuple(self._core.box())
+
+    @property
+    def n_particles(self):
+        """Particles in the whole system (all ranks)."""
+        return self._core.total_particles()
+
+    @property
+    def rank(self):
+        return self._core.rank()
+
+    @property
+    def ranks(self):
+        return self._core.ranks()
+
+    # ---- advancing ----
+    def add_callback(self, fn, every=1):
+        """Call ``fn(sim)`` after every step that is a multiple of ``every``, during run() and advance().
+
+        The callback may read anything (thermo(), particles, snapshot(), ...). It stops the run by
+        returning a true value (True, numpy.True_, ...) or raising StopRun; None or False continue. Under MPI it runs on every rank and must decide the same
+        everywhere (thermo() and the analyses are the same on every rank). Returns a handle for
+        remove_callback().
+        """
+        if int(every) < 1:
+            raise ValueError(f"every = {every}: must be >= 1")
+        cb = _Callback(fn, int(every))
+        self._callbacks.append(cb)
+        return cb
+
+    def remove_callback(self, handle):
+        self._callbacks.remove(handle)
+
+    def advance(self, steps=1):
+        """Advance ``steps`` time steps (callbacks fire). Returns False if a callback stopped it."""
+        if int(steps) < 0:
+            raise ValueError(f"steps = {steps}: must be >= 0")
+        return self._advance_to(self.step + int(steps))
+
+    def _advance_to(self, target):
+        self.stopped = False
+        while self._core.current_step() < target:
+            cur = self._core.current_step()
+            nxt = target
+            for cb in self._callbacks:
+                nxt = min(nxt, (cur // cb.every + 1) * cb.every)
+            self._core.step(nxt - cur)
+            for cb in list(self._callbacks):
+                if nxt % cb.every:
+                    continue
+                try:
+                    result = cb.fn(self)
+                    stop = result is not None and bool(result)
+                except StopRun:
+                    stop = True
+                if stop:
+                    self.stopped = True
+                    return False
+        return True
+
+    def run(self, steps=None):
+        """Advance ``steps`` steps, or to final_step when None, firing callbacks.
+
+        When the run reaches final_step it does what ``mesodpd run`` does at the end: writes the final
+        checkpoint and the analysis files (with ``out``) and returns the summary text (rank 0; '' on the
+        others). Returns None when a callback stopped the run or final_step was not reached (call
+        finish() to write the summaries at any step).
+        """
+        target = self.final_step if steps is None else self.step + int(steps)
+        if steps is not None and int(steps) < 0:
+            raise ValueError(f"steps = {steps}: must be >= 0")
+        if not self._advance_to(target):
+            return None
+        if self.step >= self.final_step:
+            return self.finish()
+        return None
+
+    def finish(self):
+        """Write the final checkpoint and analysis files (with ``out``) at the current step and return the
+        summary text (mean temperature, viscosity, D, warnings). May be called more than once."""
+        return self._core.finish()
+
+    # ---- state ----
+    def thermo(self):
+        """The instantaneous state of the whole system: a dict with step, time, temperature,
+        temperature_transverse, pressure, pressure_tensor (xx yy zz xy xz yz), pressure_conservative,
+        momentum (3), potential_energy, kinetic_energy. Collective under MPI."""
+        return self._core.thermo()
+
+    def thermo_history(self):
+        """Thermo rows measured so far (every output.thermo_every steps) as numpy arrays, keyed like
+        thermo() (pressure_tensor is (n, 6), momentum (n, 3)); the columns of thermo.csv."""
+        return self._core.thermo_history()
+
+    def snapshot(self):
+        """The whole system in increasing id order (copies): a dict of arrays id, species, x, y, z, vx,
+        vy, vz, fx, fy, fz, ix, iy, iz on rank 0, None on the other ranks. Collective under MPI."""
+        return self._core.gather()
+
+    def profile(self):
+        """The reverse-Poiseuille profile and viscosity so far ([poiseuille]): dict with z, v_mean, v_err,
+        v_fit (arrays), eta, eta_err, blocks_used, samples, flow_axis, gradient_axis; None if not
+        configured. Same on every rank."""
+        return self._core.profile()
+
+    def rdf(self):
+        """g(r) so far ([analysis.rdf]): dict with r, g (arrays), samples; None if not configured."""
+        return self._core.rdf()
+
+    def msd(self):
+        """Mean squared displacement so far ([analysis.msd]): dict with time, msd (arrays), diffusion
+        (D from the slope; NaN with too few points); None if not configured."""
+        return self._core.msd()
+
+    def fields(self):
+        """The [analysis.fields] grids averaged so far: a dict name -> dict with bins (nx, ny, nz), samples,
+        and arrays of shape (nx, ny, nz): x, y, z (cell centres), density (selected species, per volume),
+        vx, vy, vz (mass-weighted velocity), temperature (mean of the three components). The arrays are
+        empty before the first sample. Same on every rank."""
+        out = {}
+        for f in self._core.fields():
+            nx, ny, nz = f["bins"]
+            for k in ("x", "y", "z", "density", "vx", "vy", "vz", "temperature"):
+                if len(f[k]):
+                    f[k] = f[k].reshape(nz, ny, nx).transpose(2, 1, 0)
+            f["bins"] = (nx, ny, nz)
+            out[f["name"]] = f
+        return out
+
+    def numbers(self):
+        """Dimensionless numbers of this run's spec (see Spec.numbers())."""
+        return self._core.spec().flow_numbers()
+
+    def write_checkpoint(self, path):
+        """Write the full state; Simulation(spec, restart=path) or ``mesodpd run --restart`` continues it
+        bit-identically."""
+        self._core.write_checkpoint(os.fspath(path))

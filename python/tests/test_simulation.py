@@ -1,0 +1,154 @@
+"""Simulation from Python: same bits as the command line, zero-copy state, callbacks, checkpoints,
+results as arrays."""
+import filecmp
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import mesodpd
+from conftest import SMALL
+
+
+def _files(d):
+    return sorted(f for f in os.listdir(d) if os.path.isfile(os.path.join(d, f)))
+
+
+def test_python_and_command_line_write_the_same_bytes(small_toml, tmp_path, mesodpd_bin):
+    cli = tmp_path / "cli"
+    subprocess.run([mesodpd_bin, "run", str(small_toml), "--out", str(cli), "--no-progress", "--threads", "1"],
+                   check=True, capture_output=True)
+    py = tmp_path / "py"
+    sim = mesodpd.Simulation.from_toml(small_toml, out=py, threads=2)
+    # Reading the state from callbacks must not change the trajectory.
+    sim.add_callback(lambda s: (s.thermo(), s.snapshot(), s.rdf(), s.particles.x.sum()) and None, every=7)
+    summary = sim.run()
+    assert "viscosity" in summary
+    names = _files(cli)
+    assert names == _files(py)
+    assert {"thermo.csv", "checkpoint.mdpd", "trajectory.gsd", "rdf.csv", "msd.csv", "viscosity.json",
+            "poiseuille_profile.csv", "velocity_profile.svg"} <= set(names)
+    _, mismatch, errors = filecmp.cmpfiles(cli, py, names, shallow=False)
+    assert mismatch == [] and errors == []
+
+
+def test_a_spec_built_from_dicts_runs_the_same_as_the_file(small_toml, tmp_path):
+    a = mesodpd.Simulation.from_toml(small_toml, out=tmp_path / "a")
+    a.run()
+    data = mesodpd.Spec.from_toml(small_toml).data
+    b = mesodpd.Simulation(mesodpd.Spec(**data), out=tmp_path / "b")
+    b.run()
+    assert (tmp_path / "a" / "checkpoint.mdpd").read_bytes() == (tmp_path / "b" / "checkpoint.mdpd").read_bytes()
+
+
+def test_local_arrays_are_zero_copy_views_that_follow_the_run():
+    sim = mesodpd.Simulation.from_string(SMALL)
+    p = sim.particles
+    x0 = p.x
+    assert x0.dtype == np.float64 and len(x0) == sim.n_particles == 864
+    assert not x0.flags.owndata and not x0.flags.writeable
+    assert np.shares_memory(p.x, p.x)  # two requests, one buffer: no copy
+    with pytest.raises(ValueError):
+        x0[0] = 1.0
+    before = dict(zip(p.id.tolist(), p.x.tolist()))
+    sim.advance(3)
+    # After the steps the views show the new state, which the gathered id-ordered copy confirms.
+    snap = sim.snapshot()
+    assert np.array_equal(snap["id"], np.arange(1, 865, dtype=np.uint32))
+    order = np.argsort(p.id)
+    for name in ("x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "ix"):
+        assert np.array_equal(getattr(p, name)[order], snap[name]), name
+    after = dict(zip(p.id.tolist(), p.x.tolist()))
+    assert sum(before[i] != after[i] for i in before) > 800
+    assert p.position.shape == (864, 3) and np.array_equal(p.position[:, 0], p.x)
+    # Momentum across the driven flow is conserved to round-off (antisymmetric pair forces).
+    assert np.abs(sim.thermo()["momentum"][1:]).max() < 1e-9
+
+
+def test_a_callback_stops_the_run():
+    sim = mesodpd.Simulation.from_string(SMALL)
+    seen = []
+
+    def cb(s):
+        seen.append(s.step)
+        return np.bool_(s.step >= 30)  # a true value stops, numpy's too
+
+    first = sim.add_callback(cb, every=10)
+    assert sim.run() is None and sim.stopped
+    assert sim.step == 30 and seen == [10, 20, 30]
+
+    def stop(s):
+        raise mesodpd.StopRun
+
+    h = sim.add_callback(stop, every=5)
+    sim.advance(100)
+    assert sim.step == 35 and sim.stopped
+    sim.remove_callback(h)
+    sim.remove_callback(first)
+    sim.run()
+    assert sim.step == sim.final_step == 60 and not sim.stopped
+
+
+def test_checkpoint_and_restart_continue_bit_identically(tmp_path):
+    full = mesodpd.Simulation.from_string(SMALL, record=False)
+    full.run()
+    end = full.snapshot()
+
+    first = mesodpd.Simulation.from_string(SMALL)
+    first.advance(25)
+    first.write_checkpoint(tmp_path / "c.mdpd")
+    second = mesodpd.Simulation.from_string(SMALL, restart=tmp_path / "c.mdpd")
+    assert second.step == 25
+    second.run()
+    again = second.snapshot()
+    for k in end:
+        assert np.array_equal(end[k], again[k]), k
+
+
+def test_thermo_history_and_analyses_as_arrays():
+    sim = mesodpd.Simulation.from_string(SMALL)  # record=True: results without an output directory
+    sim.run()
+    h = sim.thermo_history()
+    assert list(h["step"]) == list(range(0, 61, 10))
+    assert h["pressure_tensor"].shape == (7, 6) and h["momentum"].shape == (7, 3)
+    # The random start heats the fluid; it cools back towards kT = 1.
+    assert np.all(np.diff(h["temperature"][1:]) < 0) and abs(h["temperature"][-1] - 1) < 0.1
+    t = sim.thermo()
+    assert t["step"] == 60 and t["temperature"] == pytest.approx(h["temperature"][-1], rel=1e-12)
+    prof = sim.profile()
+    assert prof["samples"] == 50 and len(prof["z"]) == 8 and np.isfinite(prof["eta"])
+    g = sim.rdf()
+    assert g["samples"] == 7 and len(g["r"]) == 30
+    assert g["g"][0] < 0.2 and abs(g["g"][-5:].mean() - 1) < 0.1  # excluded core, flat far away
+    m = sim.msd()
+    assert m["time"][0] == 0 and np.all(np.diff(m["msd"]) > 0)
+    f = sim.fields()["layers"]
+    assert f["bins"] == (1, 1, 8) and f["samples"] == 7 and f["density"].shape == (1, 1, 8)
+    assert f["density"].mean() == pytest.approx(3.0, rel=1e-12)  # every particle in some layer
+    assert np.allclose(f["z"][0, 0], np.arange(8) + 0.5)
+    none = mesodpd.Simulation.from_string(SMALL, record=False)
+    none.advance(10)
+    assert len(none.thermo_history()["step"]) == 0 and none.rdf() is None
+
+
+def test_blow_up_is_a_python_exception():
+    spec = mesodpd.Spec.from_string(SMALL)
+    spec["run"]["max_velocity"] = 0.5  # thermal speeds exceed it at once
+    sim = mesodpd.Simulation(spec)
+    with pytest.raises(mesodpd.BlowUpError) as err:
+        sim.advance(5)
+    assert err.value.step == 1 and err.value.particle_id >= 1 and "blew up" in str(err.value)
+
+
+def test_plot_helpers_draw(tmp_path):
+    pytest.importorskip("matplotlib")
+    sim = mesodpd.Simulation.from_string(SMALL)
+    sim.run()
+    from mesodpd import plot
+    for fn, name in ((plot.velocity_profile, "v.png"), (plot.thermo, "t.png"), (plot.rdf, "g.png"),
+                     (plot.msd, "m.png")):
+        fig = fn(sim, path=tmp_path / name)
+        assert (tmp_path / name).stat().st_size > 1000
+        import matplotlib.pyplot as plt
+        plt.close(fig)
