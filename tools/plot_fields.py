@@ -5,7 +5,7 @@
 # does not. Matplotlib's Agg backend: no display needed.
 #
 # usage: tools/plot_fields.py FIELDS_CSV [--json FIELDS_JSON] [--out-dir DIR] [--prefix NAME]
-#                             [--average-axis x|y|z] [--title TEXT]
+#                             [--average-axis x|y|z] [--title TEXT] [--dpi N]
 #   FIELDS_CSV  <name>.csv written by mesodpd (columns ix,iy,iz,x,y,z,density,density_<species>...,
 #               vx,vy,vz,temperature,temperature_x,temperature_y,temperature_z; one row per bin, x fastest)
 #   --json      <name>.json beside it (default: same stem); its slab fit is drawn on a 1-D profile
@@ -30,6 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 AXES = "xyz"
+DPI = 150
 
 
 def fail(message):
@@ -82,7 +83,7 @@ def species_columns(columns):
     return [c for c in columns if c.startswith("density_")]
 
 
-def draw_map(path, title, a, b, xa, xb, values, label, cmap="viridis", streams=None):
+def draw_map(path, title, a, b, xa, xb, values, label, cmap="viridis", streams=None, symmetric=False):
     """One colour map over the (a, b) plane; `streams` = (ua, ub) adds streamlines."""
     extent_a = (xa[0] - 0.5 * (xa[1] - xa[0]) if len(xa) > 1 else xa[0] - 0.5, xa[-1] + 0.5 * (xa[1] - xa[0]) if len(xa) > 1 else xa[0] + 0.5)
     extent_b = (xb[0] - 0.5 * (xb[1] - xb[0]) if len(xb) > 1 else xb[0] - 0.5, xb[-1] + 0.5 * (xb[1] - xb[0]) if len(xb) > 1 else xb[0] + 0.5)
@@ -92,8 +93,12 @@ def draw_map(path, title, a, b, xa, xb, values, label, cmap="viridis", streams=N
     fig_w = 7.0
     fig, ax = plt.subplots(figsize=(fig_w, max(2.5, min(9.0, fig_w * aspect + 1.0))))
     masked = np.ma.masked_invalid(values.T)  # rows: b, columns: a
+    limits = {}
+    if symmetric and masked.count() > 0:  # a diverging map with white at zero
+        top = float(np.max(np.abs(masked)))
+        limits = {"vmin": -top, "vmax": top}
     image = ax.imshow(masked, origin="lower", extent=(*extent_a, *extent_b), cmap=cmap, aspect="equal",
-                      interpolation="nearest")
+                      interpolation="nearest", **limits)
     fig.colorbar(image, ax=ax, label=label, shrink=0.85)
     if streams is not None and len(xa) > 1 and len(xb) > 1:
         ua = np.ma.masked_invalid(streams[0].T)
@@ -106,7 +111,7 @@ def draw_map(path, title, a, b, xa, xb, values, label, cmap="viridis", streams=N
     ax.set_ylabel(AXES[b])
     ax.set_title(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
 
@@ -129,7 +134,7 @@ def plot_maps(columns, shape, out_dir, prefix, title):
                             field("density"), "density"))
     for d in range(3):
         written.append(draw_map(os.path.join(out_dir, f"{prefix}_v{AXES[d]}.png"), f"{head}velocity v_{AXES[d]}", a, b,
-                                xa, xb, field(f"v{AXES[d]}"), f"v_{AXES[d]}", cmap="RdBu_r"))
+                                xa, xb, field(f"v{AXES[d]}"), f"v_{AXES[d]}", cmap="RdBu_r", symmetric=True))
     ua, ub = field(f"v{AXES[a]}"), field(f"v{AXES[b]}")
     written.append(draw_map(os.path.join(out_dir, f"{prefix}_speed.png"),
                             f"{head}in-plane speed and streamlines", a, b, xa, xb, np.hypot(ua, ub),
@@ -188,7 +193,7 @@ def plot_profile(columns, shape, meta, out_dir, prefix, title):
         ax_rho.set_title(title)
     fig.tight_layout()
     path = os.path.join(out_dir, f"{prefix}_profile.png")
-    fig.savefig(path, dpi=150)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return [path]
 
@@ -201,7 +206,10 @@ def main(argv=None):
     parser.add_argument("--prefix", help="file name prefix (default: the CSV's stem)")
     parser.add_argument("--average-axis", choices=list(AXES), help="for a 3-D grid: the axis averaged over")
     parser.add_argument("--title", default="", help="text put in front of each picture's title")
+    parser.add_argument("--dpi", type=int, default=150, help="resolution of the PNGs (default 150)")
     args = parser.parse_args(argv)
+    global DPI
+    DPI = args.dpi
     stem = os.path.splitext(args.csv)[0]
     out_dir = args.out_dir or os.path.dirname(os.path.abspath(args.csv))
     prefix = args.prefix or os.path.basename(stem)

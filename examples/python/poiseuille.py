@@ -24,8 +24,8 @@ args = parser.parse_args()
 spec = mesodpd.Spec.from_toml(CONFIG)
 print(spec.check())                      # Reynolds, Schmidt, Mach numbers before the run
 sim = mesodpd.Simulation(spec, out=args.out, steps=args.steps)
-print(f"{sim.n_particles} particles, steps {sim.step} -> {sim.final_step}, output in {args.out}")
-sim.add_callback(lambda s: print(f"step {s.step:6d}  T = {s.thermo()['temperature']:.4f}"), every=5000)
+print(f"{sim.n_particles} particles, steps {sim.current_step} -> {sim.final_step}, output in {args.out}")
+sim.add_callback(lambda s: print(f"step {s.current_step:6d}  T across the flow = {s.thermo()['temperature_transverse']:.4f}"), every=5000)
 print(sim.run(), end="")
 
 prof = sim.profile()

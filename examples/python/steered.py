@@ -36,7 +36,7 @@ def converged(s):
     if len(t) < 10:
         return False
     old, new = t[-10:-5].mean(), t[-5:].mean()
-    print(f"step {s.step:5d}: T = {t[-1]:.4f}, last 5 rows {new:.4f}, 5 before {old:.4f}")
+    print(f"step {s.current_step:5d}: T = {t[-1]:.4f}, last 5 rows {new:.4f}, 5 before {old:.4f}")
     return abs(new - old) < 0.005 * new
 
 
@@ -44,7 +44,7 @@ sim.add_callback(converged, every=100)
 sim.run()
 assert sim.stopped, "did not converge within run.steps"
 h = sim.thermo_history()
-print(f"converged at step {sim.step} (time {sim.time:.1f}): mean T over the last 5 rows {h['temperature'][-5:].mean():.4f}")
+print(f"converged at step {sim.current_step} (time {sim.time:.1f}): mean T over the last 5 rows {h['temperature'][-5:].mean():.4f}")
 sim.write_checkpoint(pathlib.Path(args.out) / "equilibrated.mdpd")
 print(f"wrote {args.out}/equilibrated.mdpd; continue with "
       f"mesodpd.Simulation(spec, restart='{args.out}/equilibrated.mdpd', steps=...)")

@@ -116,6 +116,8 @@ struct FieldsSpec {
   std::vector<int> selected;                  // resolved by validate(): indices of the species binned
   int centre_axis = -1;                       // shift each sample so the selected mass is centred (-1: no)
   FieldsFit fit = FieldsFit::None;            // "slab": tanh fit of a 1-D density profile
+  int blocks = 10;                            // blocks for the slab fit's error bars (B..2B-1 used)
+  std::uint64_t write_every = 0;              // also write the files at these steps (0: at the end only)
 };
 
 struct DumpSpec {

@@ -10,7 +10,7 @@ if matplotlib.get_backend().lower() not in ("agg", "pdf", "svg", "ps", "cairo") 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["velocity_profile", "thermo", "rdf", "msd"]
+__all__ = ["velocity_profile", "thermo", "rdf", "msd", "fields"]
 
 
 def _axes(ax):
@@ -80,4 +80,45 @@ def msd(data, ax=None, path=None):
     ax.set_xlabel("lag time")
     ax.set_ylabel("MSD")
     ax.legend()
+    return _finish(fig, path)
+
+
+def fields(data, name=None, quantity="density", ax=None, path=None, arrows=True):
+    """An [analysis.fields] grid: a colour map of ``quantity`` (density, vx, vy, vz, temperature) for a 2-D
+    grid, with the in-plane velocity as arrows (like the command line's SVG maps), or a profile for a
+    1-D grid. ``data``: a Simulation or Simulation.fields(); ``name``: the grid (the only one if None)."""
+    grids = data.fields() if hasattr(data, "fields") else data
+    if not grids:
+        raise ValueError("no binned fields: the spec has no [analysis.fields] section")
+    if name is None:
+        if len(grids) > 1:
+            raise ValueError(f"several grids ({', '.join(grids)}): pass name=")
+        name = next(iter(grids))
+    f = grids[name]
+    if f["samples"] == 0:
+        raise ValueError(f"grid {name!r} has no samples yet")
+    axes = [d for d in range(3) if f["bins"][d] > 1]
+    labels = "xyz"
+    coords = (f["x"], f["y"], f["z"])
+    values = np.squeeze(f[quantity])
+    fig, ax = _axes(ax)
+    if len(axes) == 1:
+        d = axes[0]
+        ax.plot(np.squeeze(coords[d]), values, "o-", ms=3)
+        ax.set_xlabel(labels[d])
+        ax.set_ylabel(quantity)
+    elif len(axes) == 2:
+        a, b = axes
+        ca, cb = np.squeeze(coords[a]), np.squeeze(coords[b])
+        mesh = ax.pcolormesh(ca, cb, values, shading="nearest", cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label=quantity)
+        if arrows:
+            va, vb = np.squeeze(f["v" + labels[a]]), np.squeeze(f["v" + labels[b]])
+            ax.quiver(ca, cb, va, vb, color="white")
+        ax.set_xlabel(labels[a])
+        ax.set_ylabel(labels[b])
+        ax.set_aspect("equal")
+    else:
+        raise ValueError(f"grid {name!r} has bins {f['bins']}: plot a 1-D or 2-D grid")
+    ax.set_title(f"{name}: {quantity} ({f['samples']} samples)")
     return _finish(fig, path)

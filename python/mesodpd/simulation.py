@@ -112,7 +112,7 @@ class Simulation:
         return self._spec.copy()
 
     @property
-    def step(self):
+    def current_step(self):
         """The current step number."""
         return self._core.current_step()
 
@@ -145,7 +145,7 @@ class Simulation:
 
     # ---- advancing ----
     def add_callback(self, fn, every=1):
-        """Call ``fn(sim)`` after every step that is a multiple of ``every``, during run() and advance().
+        """Call ``fn(sim)`` after every step that is a multiple of ``every``, during run() and step().
 
         The callback may read anything (thermo(), particles, snapshot(), ...). It stops the run by
         returning a true value (True, numpy.True_, ...) or raising StopRun; None or False continue. Under MPI it runs on every rank and must decide the same
@@ -161,11 +161,12 @@ class Simulation:
     def remove_callback(self, handle):
         self._callbacks.remove(handle)
 
-    def advance(self, steps=1):
-        """Advance ``steps`` time steps (callbacks fire). Returns False if a callback stopped it."""
+    def step(self, steps=1):
+        """Advance ``steps`` time steps (callbacks fire) without finishing. Returns False if a callback
+        stopped it."""
         if int(steps) < 0:
             raise ValueError(f"steps = {steps}: must be >= 0")
-        return self._advance_to(self.step + int(steps))
+        return self._advance_to(self.current_step + int(steps))
 
     def _advance_to(self, target):
         self.stopped = False
@@ -196,12 +197,12 @@ class Simulation:
         others). Returns None when a callback stopped the run or final_step was not reached (call
         finish() to write the summaries at any step).
         """
-        target = self.final_step if steps is None else self.step + int(steps)
+        target = self.final_step if steps is None else self.current_step + int(steps)
         if steps is not None and int(steps) < 0:
             raise ValueError(f"steps = {steps}: must be >= 0")
         if not self._advance_to(target):
             return None
-        if self.step >= self.final_step:
+        if self.current_step >= self.final_step:
             return self.finish()
         return None
 

@@ -52,7 +52,7 @@ def test_local_arrays_are_zero_copy_views_that_follow_the_run():
     with pytest.raises(ValueError):
         x0[0] = 1.0
     before = dict(zip(p.id.tolist(), p.x.tolist()))
-    sim.advance(3)
+    sim.step(3)
     # After the steps the views show the new state, which the gathered id-ordered copy confirms.
     snap = sim.snapshot()
     assert np.array_equal(snap["id"], np.arange(1, 865, dtype=np.uint32))
@@ -71,23 +71,23 @@ def test_a_callback_stops_the_run():
     seen = []
 
     def cb(s):
-        seen.append(s.step)
-        return np.bool_(s.step >= 30)  # a true value stops, numpy's too
+        seen.append(s.current_step)
+        return np.bool_(s.current_step >= 30)  # a true value stops, numpy's too
 
     first = sim.add_callback(cb, every=10)
     assert sim.run() is None and sim.stopped
-    assert sim.step == 30 and seen == [10, 20, 30]
+    assert sim.current_step == 30 and seen == [10, 20, 30]
 
     def stop(s):
         raise mesodpd.StopRun
 
     h = sim.add_callback(stop, every=5)
-    sim.advance(100)
-    assert sim.step == 35 and sim.stopped
+    sim.step(100)
+    assert sim.current_step == 35 and sim.stopped
     sim.remove_callback(h)
     sim.remove_callback(first)
     sim.run()
-    assert sim.step == sim.final_step == 60 and not sim.stopped
+    assert sim.current_step == sim.final_step == 60 and not sim.stopped
 
 
 def test_checkpoint_and_restart_continue_bit_identically(tmp_path):
@@ -96,10 +96,10 @@ def test_checkpoint_and_restart_continue_bit_identically(tmp_path):
     end = full.snapshot()
 
     first = mesodpd.Simulation.from_string(SMALL)
-    first.advance(25)
+    first.step(25)
     first.write_checkpoint(tmp_path / "c.mdpd")
     second = mesodpd.Simulation.from_string(SMALL, restart=tmp_path / "c.mdpd")
-    assert second.step == 25
+    assert second.current_step == 25
     second.run()
     again = second.snapshot()
     for k in end:
@@ -128,7 +128,7 @@ def test_thermo_history_and_analyses_as_arrays():
     assert f["density"].mean() == pytest.approx(3.0, rel=1e-12)  # every particle in some layer
     assert np.allclose(f["z"][0, 0], np.arange(8) + 0.5)
     none = mesodpd.Simulation.from_string(SMALL, record=False)
-    none.advance(10)
+    none.step(10)
     assert len(none.thermo_history()["step"]) == 0 and none.rdf() is None
 
 
@@ -137,7 +137,7 @@ def test_blow_up_is_a_python_exception():
     spec["run"]["max_velocity"] = 0.5  # thermal speeds exceed it at once
     sim = mesodpd.Simulation(spec)
     with pytest.raises(mesodpd.BlowUpError) as err:
-        sim.advance(5)
+        sim.step(5)
     assert err.value.step == 1 and err.value.particle_id >= 1 and "blew up" in str(err.value)
 
 
@@ -147,8 +147,24 @@ def test_plot_helpers_draw(tmp_path):
     sim.run()
     from mesodpd import plot
     for fn, name in ((plot.velocity_profile, "v.png"), (plot.thermo, "t.png"), (plot.rdf, "g.png"),
-                     (plot.msd, "m.png")):
+                     (plot.msd, "m.png"), (plot.fields, "f.png")):
         fig = fn(sim, path=tmp_path / name)
         assert (tmp_path / name).stat().st_size > 1000
         import matplotlib.pyplot as plt
         plt.close(fig)
+
+
+def test_a_2d_field_map_is_drawn(tmp_path):
+    pytest.importorskip("matplotlib")
+    spec = mesodpd.Spec.from_string(SMALL)
+    spec["analysis"]["fields"] = {"name": "map", "bins": [6, 1, 8], "every": 5}
+    sim = mesodpd.Simulation(spec)
+    sim.step(20)
+    f = sim.fields()["map"]
+    assert f["density"].shape == (6, 1, 8) and f["samples"] == 5
+    # Centres: x varies along the first index, z along the last.
+    assert np.allclose(f["x"][:, 0, 0], np.arange(6) + 0.5) and np.allclose(f["z"][0, 0, :], np.arange(8) + 0.5)
+    from mesodpd import plot
+    import matplotlib.pyplot as plt
+    plt.close(plot.fields(sim, quantity="vx", path=tmp_path / "map.png"))
+    assert (tmp_path / "map.png").stat().st_size > 1000

@@ -218,6 +218,11 @@ BinnedFields::BinnedFields(const FieldsSpec& spec, std::vector<double> species_m
     n_cells_ *= static_cast<std::size_t>(spec_.bins[d]);
     inv_width_[d] = spec_.bins[d] / (spec_.region_hi[d] - spec_.region_lo[d]);
   }
+  if (spec_.fit == FieldsFit::Slab && profile_axis() >= 0) {
+    blocked_ = true;
+    blocks_ = BlockRows(n_cells_, static_cast<std::size_t>(spec_.blocks));
+    row_.assign(n_cells_, 0.0);
+  }
   selected_.assign(n_species_, 0);
   for (int s : spec_.selected) selected_.at(static_cast<std::size_t>(s)) = 1;
   sums_.assign(n_cells_ * stride_, 0);
@@ -281,6 +286,15 @@ void BinnedFields::sample(const ParticleData& own, const Comm& comm, std::uint64
   }
   comm.sum(std::span<FieldSum>(scratch_));
   for (std::size_t k = 0; k < sums_.size(); ++k) sums_[k] += scratch_[k];
+  if (blocked_) {
+    for (std::size_t c = 0; c < n_cells_; ++c) {
+      FieldSum n = 0;
+      for (std::size_t s = 0; s < n_species_; ++s)
+        if (selected_[s]) n += scratch_[c * stride_ + s];
+      row_[c] = static_cast<double>(n);
+    }
+    blocks_.add(row_.data());
+  }
   if (samples_ == 0) first_step_ = step;
   last_step_ = step;
   ++samples_;
@@ -372,7 +386,32 @@ SlabFit BinnedFields::slab_fit() const {
   if (axis < 0 || samples_ == 0) return {};
   std::vector<double> z(n_cells_);
   for (std::size_t c = 0; c < n_cells_; ++c) z[c] = centre(c)[static_cast<std::size_t>(axis)];
-  return fit_slab_profile(z, density(), fit_period());
+  SlabFit fit = fit_slab_profile(z, density(), fit_period());
+  // Error bars: the spread of the fits to each full block (standard error of their mean).
+  std::vector<std::array<double, 4>> per_block;
+  if (blocked_) {
+    const double norm = static_cast<double>(blocks_.samples_per_block()) * cell_volume();
+    std::vector<double> rho(n_cells_);
+    for (std::size_t k = 0; k < blocks_.full_blocks(); ++k) {
+      for (std::size_t c = 0; c < n_cells_; ++c) rho[c] = blocks_.block(k)[c] / norm;
+      const SlabFit b = fit_slab_profile(z, rho, fit_period());
+      if (b.converged) per_block.push_back({b.rho_l, b.rho_v, b.half_width, b.width});
+    }
+  }
+  fit.blocks_used = static_cast<int>(per_block.size());
+  double* errs[4] = {&fit.rho_l_err, &fit.rho_v_err, &fit.half_width_err, &fit.width_err};
+  for (std::size_t q = 0; q < 4; ++q) {
+    const double n = static_cast<double>(per_block.size());
+    if (per_block.size() < 2) {
+      *errs[q] = kNaN;
+      continue;
+    }
+    double mean = 0, ss = 0;
+    for (const auto& b : per_block) mean += b[q] / n;
+    for (const auto& b : per_block) ss += (b[q] - mean) * (b[q] - mean);
+    *errs[q] = std::sqrt(ss / (n - 1) / n);
+  }
+  return fit;
 }
 
 std::string BinnedFields::write(const std::filesystem::path& dir) const {
@@ -441,19 +480,25 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
     nlohmann::ordered_json f;
     f["converged"] = fit.converged;
     f["rho_l"] = json_number(fit.rho_l);
+    f["rho_l_err"] = json_number(fit.rho_l_err);
     f["rho_v"] = json_number(fit.rho_v);
+    f["rho_v_err"] = json_number(fit.rho_v_err);
     f["z0"] = json_number(fit.z0);
     f["half_width"] = json_number(fit.half_width);
+    f["half_width_err"] = json_number(fit.half_width_err);
     f["width"] = json_number(fit.width);
+    f["width_err"] = json_number(fit.width_err);
+    f["blocks_used"] = fit.blocks_used;
     f["thickness_10_90"] = json_number(2 * std::atanh(0.8) * fit.width);
     f["rms"] = json_number(fit.rms);
     f["iterations"] = fit.iterations;
     f["period"] = json_number(fit_period());  // |z - z0| is the minimum image for this period (0: plain)
     j["slab_fit"] = f;
-    summary += fmt::format("{}: slab fit{} rho_l = {:.4f}, rho_v = {:.4f}, interface width w = {:.4f} (10-90 thickness "
-                           "{:.4f}), half-width {:.4f} at {} = {:.4f}\n",
-                           name, fit.converged ? "" : " (NOT converged)", fit.rho_l, fit.rho_v, fit.width,
-                           2 * std::atanh(0.8) * fit.width, fit.half_width, axis >= 0 ? kAxisNames[axis] : "?", fit.z0);
+    summary += fmt::format("{}: slab fit{} rho_l = {:.4f} +- {:.4f}, rho_v = {:.4g} +- {:.2g}, interface width w = "
+                           "{:.4f} +- {:.4f} (10-90 thickness {:.4f}), half-width {:.4f} at {} = {:.4f} ({} blocks)\n",
+                           name, fit.converged ? "" : " (NOT converged)", fit.rho_l, fit.rho_l_err, fit.rho_v,
+                           fit.rho_v_err, fit.width, fit.width_err, 2 * std::atanh(0.8) * fit.width, fit.half_width,
+                           axis >= 0 ? kAxisNames[axis] : "?", fit.z0, fit.blocks_used);
   }
   write_file_atomically(dir / (name + ".json"), [&](std::ostream& os) { os << j.dump(2) << '\n'; });
 
@@ -516,11 +561,13 @@ void BinnedFields::save(ByteWriter& w) const {
     w.put<double>(spec_.region_hi[d]);
   }
   w.put<std::int32_t>(spec_.centre_axis);
+  w.put<std::int32_t>(blocked_ ? spec_.blocks : 0);
   w.put_vector(selected_);
   w.put<std::uint64_t>(samples_);
   w.put<std::uint64_t>(first_step_);
   w.put<std::uint64_t>(last_step_);
   w.put_vector(sums_);
+  if (blocked_) blocks_.save(w);
 }
 
 void BinnedFields::load(ByteReader& r, const std::string& context) {
@@ -531,9 +578,10 @@ void BinnedFields::load(ByteReader& r, const std::string& context) {
     same = r.get<double>() == spec_.region_hi[d] && same;
   }
   same = r.get<std::int32_t>() == spec_.centre_axis && same;
+  same = r.get<std::int32_t>() == (blocked_ ? spec_.blocks : 0) && same;
   same = r.get_vector<char>() == selected_ && same;
   if (!same)
-    throw ConfigError(fmt::format("analysis.fields \"{}\": bins, lo, hi, centre or the species binned differ from the "
+    throw ConfigError(fmt::format("analysis.fields \"{}\": bins, lo, hi, centre, fit, blocks or the species binned differ from the "
                                   "checkpoint's ({}); keep them, or give the grid another name to start it afresh",
                                   spec_.name, context));
   samples_ = r.get<std::uint64_t>();
@@ -542,6 +590,7 @@ void BinnedFields::load(ByteReader& r, const std::string& context) {
   std::vector<FieldSum> sums = r.get_vector<FieldSum>();
   if (sums.size() != sums_.size()) throw ConfigError(fmt::format("{}: inconsistent binned-field state", context));
   sums_ = std::move(sums);
+  if (blocked_) blocks_.load(r, context);
 }
 
 }  // namespace mesodpd

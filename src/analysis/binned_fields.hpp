@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/block_rows.hpp"
 #include "core/particle_data.hpp"
 #include "io/byte_buffer.hpp"
 #include "mesodpd/spec.hpp"
@@ -45,6 +46,9 @@ struct SlabFit {
   double width = 0;             // w of tanh: the 10-90 thickness is 2 atanh(0.8) w = 2.197 w
   double rms = 0;               // root-mean-square residual of the fit
   int iterations = 0;
+  // Standard errors from fitting each block of samples on its own (NaN with fewer than 2 blocks).
+  double rho_l_err = 0, rho_v_err = 0, half_width_err = 0, width_err = 0;
+  int blocks_used = 0;
 };
 
 // Least-squares fit of rho(z) = (rho_l + rho_v)/2 - (rho_l - rho_v)/2 tanh((|z - z0| - h) / w) to the
@@ -107,6 +111,9 @@ class BinnedFields {
   // Per cell: count of each species, then the selected species' P_x, P_y, P_z, K_x, K_y, K_z.
   std::vector<FieldSum> sums_;     // running totals over all samples
   std::vector<FieldSum> scratch_;  // one sample
+  std::vector<double> row_;        // one sample's 1-D density counts, for the blocks
+  BlockRows blocks_;               // per-block 1-D profiles of the selected species (fit = "slab")
+  bool blocked_ = false;
   std::uint64_t samples_ = 0, first_step_ = 0, last_step_ = 0;
 };
 

@@ -278,8 +278,13 @@ void Observers::observe(const StepContext& ctx) {
     comm.sum(std::span<std::int64_t>(profile_bins_));
     if (comm.root()) profile_->add_binned(profile_bins_.data());
   }
-  for (BinnedFields& f : fields_)
+  for (BinnedFields& f : fields_) {
     if (measure && step >= f.spec().start && step % f.spec().every == 0) f.sample(ctx.particles, comm, step);
+    // The files so far, for long runs (the averages go on; the end of the run writes them again).
+    const std::uint64_t w = f.spec().write_every;
+    if (files() && w > 0 && step % w == 0 && step > f.spec().start && f.samples() > 0)
+      comm.on_root([&] { f.write(opt_.out_dir); });
+  }
   const bool rdf_due = measure && s.rdf.enabled && step >= s.rdf.start && step % s.rdf.every == 0;
   const bool msd_due = measure && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files() && s.dump.enabled && step % s.dump.every == 0;

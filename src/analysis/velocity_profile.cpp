@@ -71,8 +71,8 @@ PoiseuilleProfile::PoiseuilleProfile(std::size_t bins, int flow_axis, int gradie
     const double lo = static_cast<double>(b) * dz;
     basis_[b] = (basis_antiderivative(lo + dz, h) - basis_antiderivative(lo, h)) / dz;
   }
-  block_vsum_.assign(2 * blocks_ * bins_, 0.0);
-  block_count_.assign(2 * blocks_ * bins_, 0.0);
+  blocks_rows_ = BlockRows(2 * bins_, blocks_);
+  row_.assign(2 * bins_, 0.0);
   total_vsum_.assign(bins_, 0.0);
   total_count_.assign(bins_, 0.0);
 }
@@ -99,32 +99,16 @@ void PoiseuilleProfile::sample(const double* pos_gradient_coord, const double* v
 }
 
 void PoiseuilleProfile::add_binned(const std::int64_t* sums) {
-  double* vsum = &block_vsum_[full_blocks_ * bins_];
-  double* count = &block_count_[full_blocks_ * bins_];
   for (std::size_t b = 0; b < bins_; ++b) {
     const double v = static_cast<double>(sums[b]) / kVelocityScale;
     const double c = static_cast<double>(sums[bins_ + b]);
-    vsum[b] += v;
-    count[b] += c;
+    row_[b] = v;
+    row_[bins_ + b] = c;
     total_vsum_[b] += v;
     total_count_[b] += c;
   }
   ++samples_;
-  if (++in_current_ < block_size_) return;
-
-  in_current_ = 0;
-  if (++full_blocks_ < 2 * blocks_) return;
-  // All 2B blocks full: merge neighbours so B blocks of twice the size remain.
-  for (std::size_t k = 0; k < blocks_; ++k) {
-    for (std::size_t b = 0; b < bins_; ++b) {
-      block_vsum_[k * bins_ + b] = block_vsum_[2 * k * bins_ + b] + block_vsum_[(2 * k + 1) * bins_ + b];
-      block_count_[k * bins_ + b] = block_count_[2 * k * bins_ + b] + block_count_[(2 * k + 1) * bins_ + b];
-    }
-  }
-  std::fill(block_vsum_.begin() + static_cast<std::ptrdiff_t>(blocks_ * bins_), block_vsum_.end(), 0.0);
-  std::fill(block_count_.begin() + static_cast<std::ptrdiff_t>(blocks_ * bins_), block_count_.end(), 0.0);
-  full_blocks_ = blocks_;
-  block_size_ *= 2;
+  blocks_rows_.add(row_.data());
 }
 
 PoiseuilleProfile::LineFit PoiseuilleProfile::fit_profile(const double* vsum, const double* count) const {
@@ -158,11 +142,11 @@ ViscosityFit PoiseuilleProfile::fit() const {
   out.eta = rho_g / (2.0 * all.c);  // c = rho_m g / (2 eta)
   out.v_amplitude = all.c * len_ * len_ / 16.0;
   std::vector<double> etas;
-  for (std::size_t k = 0; k < full_blocks_; ++k) {
-    const LineFit f = fit_profile(&block_vsum_[k * bins_], &block_count_[k * bins_]);
+  for (std::size_t k = 0; k < blocks_rows_.full_blocks(); ++k) {
+    const LineFit f = fit_profile(blocks_rows_.block(k), blocks_rows_.block(k) + bins_);
     etas.push_back(rho_g / (2.0 * f.c));
   }
-  out.blocks_used = static_cast<int>(full_blocks_);
+  out.blocks_used = static_cast<int>(blocks_rows_.full_blocks());
   out.eta_err = standard_error(etas);
   return out;
 }
@@ -187,9 +171,9 @@ std::vector<double> PoiseuilleProfile::v_err() const {
   std::vector<double> means;
   for (std::size_t b = 0; b < bins_; ++b) {
     means.clear();
-    for (std::size_t k = 0; k < full_blocks_; ++k) {
-      const double cnt = block_count_[k * bins_ + b];
-      if (cnt > 0.0) means.push_back(block_vsum_[k * bins_ + b] / cnt);
+    for (std::size_t k = 0; k < blocks_rows_.full_blocks(); ++k) {
+      const double cnt = blocks_rows_.block(k)[bins_ + b];
+      if (cnt > 0.0) means.push_back(blocks_rows_.block(k)[b] / cnt);
     }
     out[b] = standard_error(means);
   }
@@ -230,11 +214,19 @@ void PoiseuilleProfile::save(ByteWriter& w) const {
   w.put<std::uint64_t>(bins_);
   w.put<std::uint64_t>(blocks_);
   w.put<std::uint64_t>(samples_);
-  w.put<std::uint64_t>(block_size_);
-  w.put<std::uint64_t>(full_blocks_);
-  w.put<std::uint64_t>(in_current_);
-  w.put_vector(block_vsum_);
-  w.put_vector(block_count_);
+  w.put<std::uint64_t>(blocks_rows_.samples_per_block());
+  w.put<std::uint64_t>(blocks_rows_.full_blocks());
+  w.put<std::uint64_t>(blocks_rows_.in_current());
+  // Flow sums and counts as two 2B x bins arrays (the checkpoint layout from before BlockRows).
+  const std::vector<double>& rows = blocks_rows_.sums();
+  std::vector<double> vsum(2 * blocks_ * bins_), count(2 * blocks_ * bins_);
+  for (std::size_t r = 0; r < 2 * blocks_; ++r)
+    for (std::size_t b = 0; b < bins_; ++b) {
+      vsum[r * bins_ + b] = rows[r * 2 * bins_ + b];
+      count[r * bins_ + b] = rows[r * 2 * bins_ + bins_ + b];
+    }
+  w.put_vector(vsum);
+  w.put_vector(count);
   w.put_vector(total_vsum_);
   w.put_vector(total_count_);
 }
@@ -245,15 +237,20 @@ void PoiseuilleProfile::load(ByteReader& r, const std::string& context) {
     throw ConfigError(fmt::format("poiseuille.bins/blocks: {}/{} differ from the checkpoint's {}/{} ({})", bins_,
                                   blocks_, bins, blocks, context));
   samples_ = r.get<std::uint64_t>();
-  block_size_ = r.get<std::uint64_t>();
-  full_blocks_ = r.get<std::uint64_t>();
-  in_current_ = r.get<std::uint64_t>();
-  block_vsum_ = r.get_vector<double>();
-  block_count_ = r.get_vector<double>();
+  const auto block_size = r.get<std::uint64_t>(), full = r.get<std::uint64_t>(), in_current = r.get<std::uint64_t>();
+  const std::vector<double> vsum = r.get_vector<double>(), count = r.get_vector<double>();
   total_vsum_ = r.get_vector<double>();
   total_count_ = r.get_vector<double>();
-  if (total_vsum_.size() != bins_ || total_count_.size() != bins_ || block_vsum_.size() != block_count_.size())
+  if (total_vsum_.size() != bins_ || total_count_.size() != bins_ || vsum.size() != 2 * blocks_ * bins_ ||
+      count.size() != vsum.size())
     throw ConfigError(fmt::format("{}: inconsistent Poiseuille profile state", context));
+  std::vector<double> rows(4 * blocks_ * bins_);
+  for (std::size_t r2 = 0; r2 < 2 * blocks_; ++r2)
+    for (std::size_t b = 0; b < bins_; ++b) {
+      rows[r2 * 2 * bins_ + b] = vsum[r2 * bins_ + b];
+      rows[r2 * 2 * bins_ + bins_ + b] = count[r2 * bins_ + b];
+    }
+  blocks_rows_.restore(block_size, full, in_current, std::move(rows), context);
 }
 
 }  // namespace mesodpd

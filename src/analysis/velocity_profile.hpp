@@ -1,5 +1,6 @@
 // Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
 #pragma once
+#include "analysis/block_rows.hpp"
 #include "io/byte_buffer.hpp"
 #include <cstddef>
 #include <cstdint>
@@ -21,7 +22,7 @@ struct ViscosityFit {
 //   v(z) = +c z (L/2 - z) + v0   (lower),   v(z) = -c z' (L/2 - z') + v0   (upper),
 // with c = rho_m g / (2 eta); c and v0 are fitted by linear least squares and eta = rho_m g / (2 c).
 //
-// Blocking without knowing the run length: samples go into up to 2B equal-size blocks (B = `blocks`
+// Blocking without knowing the run length (BlockRows): samples go into up to 2B equal-size blocks (B = `blocks`
 // given to the constructor); when all 2B are full, neighbours are merged pairwise and the block size
 // doubles. So at any time there are between B and 2B - 1 full blocks of equal sample count, memory
 // stays O(B * bins), and ViscosityFit::blocks_used reports how many there were. The mean profile
@@ -51,7 +52,7 @@ class PoiseuilleProfile {
   std::vector<double> v_err() const;   // standard error per bin from the full blocks (NaN if < 2)
   std::vector<double> v_fit() const;   // fitted profile, averaged over each bin like the data
   std::size_t samples() const { return samples_; }
-  std::size_t samples_per_block() const { return block_size_; }
+  std::size_t samples_per_block() const { return blocks_rows_.samples_per_block(); }
   int flow_axis() const { return flow_axis_; }
   int gradient_axis() const { return gradient_axis_; }
 
@@ -80,11 +81,8 @@ class PoiseuilleProfile {
   std::vector<double> basis_;  // exact bin average of the signed parabola z (L/2 - z)
 
   std::size_t samples_ = 0;
-  std::size_t block_size_ = 1;       // samples per block
-  std::size_t full_blocks_ = 0;      // completed blocks, rows [0, full_blocks_) of the block arrays
-  std::size_t in_current_ = 0;       // samples in block row full_blocks_
-  std::vector<double> block_vsum_;   // 2B rows x bins: sum of flow velocity
-  std::vector<double> block_count_;  // 2B rows x bins: number of particle samples
+  BlockRows blocks_rows_;            // per block and bin: sum of flow velocity (bins), then counts (bins)
+  std::vector<double> row_;          // one sample in that layout
   std::vector<double> total_vsum_;
   std::vector<double> total_count_;
 };

@@ -358,6 +358,7 @@ void validate_fields(SimulationSpec& spec) {
              fmt::format("must be > lo[{}] = {} and <= system.box[{}] = {}", d, f.region_lo[d], d, spec.box[d]));
     }
     check_at_least(key + ".every", f.every, 1);
+    check_at_least(key + ".blocks", f.blocks, 2);
     if (!f.species.empty() && !f.exclude.empty())
       fail(key + ".exclude", show(f.exclude), fmt::format("not allowed together with {}.species (name the species binned, or those left out)", key));
     const bool by_name = !f.species.empty();

@@ -599,6 +599,8 @@ void read_fields(const Section& f, SimulationSpec& spec) {
   if (auto sp = f.strings("species")) out.species = std::move(*sp);
   if (auto ex = f.strings("exclude")) out.exclude = std::move(*ex);
   out.centre_axis = f.choice<int>("centre", {{"none", -1}, {"x", 0}, {"y", 1}, {"z", 2}}).value_or(-1);
+  read_int(f, "blocks", out.blocks);
+  read_uint(f, "write_every", out.write_every);
   out.fit = f.choice<FieldsFit>("fit", {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}).value_or(FieldsFit::None);
 }
 
@@ -606,7 +608,7 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
   const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields"});
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
-                                                 "species", "exclude", "centre", "fit"};
+                                                 "species", "exclude", "centre", "fit", "blocks", "write_every"};
   if (const toml::node* n = s.get("fields"); n && n->is_table()) {
     read_fields(*s.table("fields", kFieldKeys), spec);
   } else if (n) {

@@ -804,6 +804,8 @@ species = ["A"]
   EXPECT_EQ(two.fields[1].name, "profile");
   EXPECT_EQ(two.fields[1].fit, FieldsFit::Slab);
   EXPECT_EQ(two.fields[0].every, 10u);  // default
+  EXPECT_EQ(two.fields[0].write_every, 0u);
+  EXPECT_EQ(parse_config(minimal_plus("[analysis.fields]\nwrite_every = 500\n"), "test.toml").fields[0].write_every, 500u);
 }
 
 TEST(Config, RejectsBadFields) {
@@ -815,6 +817,7 @@ TEST(Config, RejectsBadFields) {
   expect_error(minimal_plus("[analysis.fields]\nlo = [5, 0, 0]\nhi = [4, 10, 10]\n"), {"analysis.fields.hi[0] = 4", "> lo[0]"});
   expect_error(minimal_plus("[analysis.fields]\nlo = [-1, 0, 0]\n"), {"analysis.fields.lo[0] = -1"});
   expect_error(minimal_plus("[analysis.fields]\nevery = 0\n"), {"analysis.fields.every"});
+  expect_error(minimal_plus("[analysis.fields]\nblocks = 1\n"), {"analysis.fields.blocks = 1", ">= 2"});
   expect_error(minimal_plus("[analysis.fields]\nspecies = [\"B\"]\n"), {"analysis.fields.species", "unknown species \"B\""});
   expect_error(minimal_plus("[analysis.fields]\nexclude = [\"A\"]\n"), {"analysis.fields.exclude", "leaves no species"});
   expect_error(minimal_plus(two_species + "[analysis.fields]\nspecies = [\"A\"]\nexclude = [\"W\"]\n"),

@@ -141,6 +141,25 @@ TEST(FieldsRun, RestartContinuesTheFieldAveragesByteForByte) {
   }
 }
 
+TEST(FieldsRun, WriteEveryLeavesTheFilesSoFarDuringTheRun) {
+  // Stepped by hand (no end-of-run write): with write_every = 50 the files exist after step 50 and hold
+  // the 6 samples of steps 0, 10, ..., 50; at step 100 they hold 11.
+  SimulationSpec spec = test::fluid_spec(5.0, 5.0, 5.0, 3.0);
+  spec.fields.push_back(whole_box_grid(spec, {2, 2, 2}, "fields"));
+  spec.fields[0].write_every = 50;
+  RunOptions opt;
+  opt.out_dir = fresh_dir("write_every");
+  opt.steps = 1000;
+  Simulation sim(spec, opt);
+  for (int k = 0; k < 49; ++k) sim.step();
+  EXPECT_FALSE(fs::exists(opt.out_dir / "fields.json"));
+  sim.step();
+  EXPECT_NE(slurp(opt.out_dir / "fields.json").find("\"samples\": 6,"), std::string::npos) << slurp(opt.out_dir / "fields.json");
+  for (int k = 0; k < 50; ++k) sim.step();
+  EXPECT_NE(slurp(opt.out_dir / "fields.json").find("\"samples\": 11,"), std::string::npos);
+  EXPECT_TRUE(fs::exists(opt.out_dir / "fields.vti"));
+}
+
 TEST(FieldsRun, FilesDoNotDependOnTheThreadCount) {
   SimulationSpec spec = test::fluid_spec(6.0, 5.0, 7.0, 3.0);
   spec.fields.push_back(whole_box_grid(spec, {6, 5, 7}, "fields"));
