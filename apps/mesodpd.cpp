@@ -65,6 +65,7 @@ int run_command(const std::string& config, const std::string& out, int threads, 
                MESODPD_VERSION, sim.total_particles(), sim.box().len.x, sim.box().len.y, sim.box().len.z, first,
                sim.final_step(), comm.size(), comm.size() > 1 ? fmt::format(" (grid {}x{}x{})", g[0], g[1], g[2]) : "",
                nthreads, openmp_wait_description(), ForceCompute::simd_target(), out);
+    for (const std::string& w : spec_warnings(sim.spec())) fmt::print(stderr, "warning: {}\n", w);
     std::fflush(stdout);
   }
   try {
@@ -197,6 +198,7 @@ int main(int argc, char** argv) {
                  spec.data_file.empty() ? "" : " from " + spec.data_file);
       // What a user should know before the run: Reynolds, Schmidt and Mach numbers, dt for the thermostat.
       fmt::print("{}", mesodpd::format_flow_numbers(mesodpd::flow_numbers(spec)));
+      for (const std::string& w : mesodpd::spec_warnings(spec)) fmt::print(stderr, "warning: {}\n", w);
       return 0;
     }
     if (*units) {

@@ -1,5 +1,7 @@
 // Throughput benchmark: particle-steps per second of the standard DPD fluid (rho = 3, a = 25,
-// gamma = 4.5, kT = 1, dt = 0.04, modified velocity-Verlet) for chosen sizes, threads and neighbour settings.
+// gamma = 4.5, kT = 1, dt = 0.04, modified velocity-Verlet) for chosen sizes, threads and neighbour
+// settings; with --system mdpd-slab, of Warren's many-body liquid slab (A = -40, B = 25, r_d = 0.75,
+// dt = 0.01: a density pass and a force pass per step) in a box twice as long as the slab.
 #include <fmt/format.h>
 #include <omp.h>
 #include <sys/utsname.h>
@@ -7,10 +9,13 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include "engine/simulation.hpp"
+#include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/openmp_wait.hpp"
 
@@ -48,6 +53,38 @@ mesodpd::SimulationSpec fluid(std::uint64_t n, double skin, bool verlet) {
   return s;
 }
 
+// Warren's liquid slab of n particles at density 6: a box L x L x 2L with the liquid in |z - L| < L/2,
+// written as a LAMMPS data file (random positions, seeded) and read back through the normal input path.
+mesodpd::SimulationSpec mdpd_slab(std::uint64_t n, bool verlet, double skin, const std::filesystem::path& data) {
+  const double len = std::cbrt(static_cast<double>(n) / 6.0);
+  {
+    std::mt19937_64 rng(48000);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::ofstream f(data);
+    f << "mdpd slab\n\n" << n << " atoms\n1 atom types\n\n0 " << len << " xlo xhi\n0 " << len << " ylo yhi\n0 "
+      << 2 * len << " zlo zhi\n\nAtoms\n\n";
+    f.precision(10);
+    for (std::uint64_t k = 0; k < n; ++k)
+      f << k + 1 << " 1 " << len * u(rng) << ' ' << len * u(rng) << ' ' << len * (0.5 + u(rng)) << '\n';
+  }
+  mesodpd::SimulationSpec s;
+  s.box = {len, len, 2 * len};
+  s.species.resize(1);
+  s.species[0].name = "A";
+  s.data_file = data.string();
+  s.velocities = mesodpd::VelocityInit::Maxwell;
+  s.pair_style = mesodpd::PairStyle::Mdpd;
+  s.pair_section.params.a = -40.0;
+  s.pair_section.params.b = 25.0;
+  s.pair_section.params.rd = 0.75;
+  s.dt = 0.01;
+  s.skin = skin;
+  s.neighbor = verlet ? mesodpd::NeighborMethod::Verlet : mesodpd::NeighborMethod::Cells;
+  s.progress = false;
+  mesodpd::validate(s);
+  return s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -61,13 +98,15 @@ int main(int argc, char** argv) {
   std::vector<int> threads{1, 2};
   int steps = 200, warmup = 50;
   double skin = 0.3;
-  std::string method = "cells";
+  std::string method = "cells", system = "fluid";
   app.add_option("--n", sizes, "particle counts (box chosen for rho = 3)");
   app.add_option("--threads", threads, "thread counts");
   app.add_option("--steps", steps, "timed steps");
   app.add_option("--warmup", warmup, "untimed steps first (equilibrates the random start)");
   app.add_option("--skin", skin, "Verlet skin");
   app.add_option("--method", method, "verlet | cells")->check(CLI::IsMember({"verlet", "cells"}));
+  app.add_option("--system", system, "fluid (rho = 3 DPD) | mdpd-slab (Warren's liquid slab, density 6)")
+      ->check(CLI::IsMember({"fluid", "mdpd-slab"}));
   app.add_flag("--per-rank", per_rank, "--n is per MPI rank (weak scaling) instead of in total");
   try {
     app.parse(argc, argv);
@@ -88,8 +127,12 @@ int main(int argc, char** argv) {
 #else
   constexpr const char* kPrecision = "double precision";
 #endif
-  print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
-        method == "verlet" ? skin : 0.0);
+  if (system == "fluid")
+    print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
+          method == "verlet" ? skin : 0.0);
+  else
+    print("# mdpd slab (liquid rho~6 in half the box) A=-40 B=25 rc=1 rd=0.75 gamma=4.5 kT=1 dt=0.01 GW lambda=0.5 "
+          "Warren kernel, {}, method={} skin={}\n", kPrecision, method, method == "verlet" ? skin : 0.0);
   print("# OpenMP wait: {}\n", mesodpd::openmp_wait_description());
   print("# pair loop SIMD target: {} (chosen at run time; MESODPD_SIMD caps it)\n", mesodpd::ForceCompute::simd_target());
   print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
@@ -98,7 +141,10 @@ int main(int argc, char** argv) {
     for (int t : threads) {
       omp_set_num_threads(t);
       const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
-      mesodpd::Simulation sim(fluid(total, skin, method == "verlet"), mesodpd::RunOptions{});
+      const auto data = std::filesystem::temp_directory_path() / fmt::format("bench_mdpd_slab_{}_r{}.data", total, comm.rank());
+      mesodpd::Simulation sim(system == "fluid" ? fluid(total, skin, method == "verlet")
+                                                : mdpd_slab(total, method == "verlet", skin, data),
+                              mesodpd::RunOptions{});
       for (int k = 0; k < warmup; ++k) sim.step();
       const auto b0 = sim.neighbor_list().builds();
       comm.barrier();

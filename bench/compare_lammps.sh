@@ -20,7 +20,7 @@ rate_lammps() {  # skin, sort interval
   # "Loop time of T on P procs for S steps with N atoms": the second run is the timed one.
   awk -v n="$n" '/^Loop time of/ {t=$4; s=$9} END {printf "%.4g", n*s/t}' "$work/log.lammps"
 }
-mesodpd_rate=$(build/bench/bench_fluid --n "$n" --threads "$threads" --steps "$steps" --warmup 50 | tail -1 | awk '{print $4}')
+mesodpd_rate=$(build/bench/bench_fluid --n "$n" --threads "$threads" --steps "$steps" --warmup 50 | tail -1 | awk '{print $5}')
 lammps_default=$(rate_lammps 0.3 1000) || exit 1
 lammps_tuned=$(rate_lammps 0.5 20) || exit 1
 echo "N=$n threads=$threads steps=$steps"

@@ -1,6 +1,8 @@
 // Random particle configurations for the pair-loop, neighbour-list and boundary tests.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <map>
 #include <random>
 
 #include "core/box.hpp"
@@ -29,6 +31,14 @@ inline ParticleData random_particles(const Box& box, std::size_t n, std::uint64_
     p.vz[i] = g(rng);
   }
   return p;
+}
+
+// Positions and velocities of the local particles by id: equal maps mean bit-identical states whatever
+// the storage order.
+inline std::map<std::uint32_t, std::array<double, 6>> state_by_id(const ParticleData& p) {
+  std::map<std::uint32_t, std::array<double, 6>> out;
+  for (std::size_t i = 0; i < p.n_local; ++i) out[p.id[i]] = {p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i]};
+  return out;
 }
 
 }  // namespace mesodpd::test

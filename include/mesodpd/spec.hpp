@@ -29,9 +29,13 @@ enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };
 enum class NeighborMethod { Verlet, Cells };
 enum class DumpFormat { Lammps, Gsd };
-// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD, or the soft cosine
-// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat.
-enum class PairStyle { Dpd, Soft };
+// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD; the soft cosine
+// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat; many-body
+// DPD (physics/mdpd_pair.hpp: a = A_ij, b = B_ij, rd = the many-body range r_d, dissipation over rc);
+// Liu's spline potentials (physics/spline_pair.hpp: a = a_ij, repulsion, rc1, attraction, rc2).
+enum class PairStyle { Dpd, Soft, Mdpd, Spline };
+// The local-density kernel of many-body DPD (physics/density_kernel.hpp): Warren's or Lucy's.
+enum class DensityKernelChoice { Warren, Lucy };
 enum class VelocityInit { Maxwell, File, Zero };
 
 struct SpeciesSpec {
@@ -42,6 +46,7 @@ struct SpeciesSpec {
   std::optional<double> density;               // [[species]] density: when set, validate() sets count
   std::uint64_t count = 0;                     // [[species]] count, or round(density x box volume)
   Placement placement = Placement::Random;     // [[species]] placement
+  bool frozen = false;                         // [[species]] frozen: wall particles, never integrated
 };
 
 // DPD pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
@@ -53,6 +58,11 @@ struct PairParams {
   std::optional<double> rc;     // conservative cutoff (default 1)
   std::optional<double> rd;     // dissipative/random cutoff (default: this pair's rc)
   std::optional<double> s;      // weight exponent (default 2)
+  std::optional<double> b;      // many-body repulsion B_ij (pair.style = "mdpd")
+  std::optional<double> repulsion;   // spline: coefficient A of W(r, rc1) (pair.style = "spline")
+  std::optional<double> rc1;         // spline: range of the repulsive spline
+  std::optional<double> attraction;  // spline: coefficient B of W(r, rc2)
+  std::optional<double> rc2;         // spline: range of the attractive spline
 };
 
 enum class Mixing { Explicit, Geometric };
@@ -65,14 +75,32 @@ struct PairOverride {
 // The [pair] table: defaults for every pair, the mixing rule for a_ij and the per-pair overrides.
 struct PairSection {
   Mixing mixing = Mixing::Explicit;
+  std::optional<DensityKernelChoice> kernel;  // [pair] kernel (mdpd only; default "warren")
   PairParams params;
   std::vector<PairOverride> overrides;  // [[pair.override]]
 };
 
 // Fully resolved interaction of one unordered species pair (i <= j), filled by validate().
+// With pair.style = "mdpd", rd is the many-body range r_d (seed 000 Eq. 17) and the dissipative and
+// random forces act over rc; b is B_ij. With "spline", repulsion/rc1/attraction/rc2 are A, r_c1, B, r_c2
+// of seed 000 Eq. 19 (per pair: a pair may override them).
 struct PairSpec {
   int i = 0, j = 0;
   double a = 25.0, gamma = 4.5, rc = 1.0, rd = 1.0, s = 2.0;
+  double b = 0.0;
+  double repulsion = 0.0, rc1 = 1.0, attraction = 0.0, rc2 = 1.0;
+
+  // The distance beyond which this pair does not interact under `style`.
+  double range(PairStyle style) const {
+    const auto mx = [](double x, double y) { return x > y ? x : y; };
+    switch (style) {
+      case PairStyle::Soft: return rc;
+      case PairStyle::Mdpd: return rc;  // r_d <= r_c (validated); dissipation over rc
+      case PairStyle::Spline: return mx(mx(rc1, rc2), rd);
+      case PairStyle::Dpd: break;
+    }
+    return mx(rc, rd);
+  }
 };
 
 // Reverse (periodic) Poiseuille flow of Backer et al. (seed 002 "Boundary Conditions"):
@@ -118,6 +146,16 @@ struct FieldsSpec {
   FieldsFit fit = FieldsFit::None;            // "slab": tanh fit of a 1-D density profile
   int blocks = 10;                            // blocks for the slab fit's error bars (B..2B-1 used)
   std::uint64_t write_every = 0;              // also write the files at these steps (0: at the end only)
+};
+
+// Surface tension of planar interfaces normal to `axis` from the pressure tensor of each thermo row at
+// or after `start`: sigma = (L / 2) <P_nn - (P_tt + P_t't')/2> with a block error bar
+// ([analysis.surface_tension]; analysis/surface_tension.hpp).
+struct SurfaceTensionSpec {
+  bool enabled = false;
+  int axis = 2;                 // normal of the interfaces: 0 = x, 1 = y, 2 = z
+  std::uint64_t start = 0;      // first thermo row used (equilibration before it)
+  int blocks = 10;              // blocks of the error bar
 };
 
 struct DumpSpec {
@@ -167,6 +205,51 @@ struct MoleculeSpec {
 // [bonds]: treatment of bonded pairs by the pair force (LAMMPS special_bonds with factors 0 or 1).
 enum class BondExclusion { None, OneTwo, OneThree };
 
+// One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp.
+enum class ShapeKind { Plane, Cylinder, Sphere, Box, Pillars, Image, Union, Difference };
+enum class Lattice { Square, Hexagonal };
+struct ShapeSpec {
+  ShapeKind kind = ShapeKind::Plane;
+  std::array<double, 3> point{0, 0, 0};      // plane: a point of the surface; pillars: lattice origin
+  std::array<double, 3> normal{0, 0, 1};     // plane: unit normal pointing into the fluid
+  std::array<double, 3> center{0, 0, 0};     // cylinder, sphere
+  std::array<double, 3> direction{0, 0, 1};  // cylinder: axis direction (any, normalised by validate)
+  double radius = 0.0;                       // cylinder, sphere, pillars
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};  // box corners
+  Lattice lattice = Lattice::Square;         // pillars
+  double spacing = 0.0;                      // pillars: centre-to-centre distance L
+  int axis = 2;                              // pillars: pillar axis; image: extrusion axis of a 2-D image
+  std::string file;                          // image: PGM (2-D, extruded) or MESODPD-VOXELS (3-D) file
+  double voxel_size = 0.0;                   // image: edge of one pixel/voxel (image extent == box)
+  bool invert = false;                       // image: swap solid and fluid
+  std::vector<ShapeSpec> parts;              // union, difference (first minus the others)
+};
+
+// [[solid]]: one body of frozen wall particles (the drag is measured per body).
+struct SolidSpec {
+  std::string name;                          // [[solid]] name (unique; drag output)
+  std::string species;                       // [[solid]] species: a frozen species its particles become
+  int species_index = -1;                    // resolved by validate()
+  std::array<double, 3> velocity{0, 0, 0};   // [[solid]] velocity: wall velocity (Couette)
+  ShapeSpec shape;
+};
+
+// Velocity rule for a fluid particle moving into the thin layer at a solid surface (seed 000 Sect. 3.2.1).
+enum class ReflectionKind { None, Specular, BounceBack, Maxwell };
+
+// [walls]: settings shared by all solids.
+struct WallsSpec {
+  ReflectionKind reflection = ReflectionKind::BounceBack;  // [walls] reflection
+  double layer = 0.1;                                      // [walls] layer: reflecting layer thickness
+  double depth = 0.0;                                      // [walls] depth: frozen shell kept (0 = largest cutoff)
+  std::uint64_t drag_start = 0;                            // [walls] drag_start: steps before drag sampling
+  std::uint64_t drag_every = 1;                            // [walls] drag_every
+  int drag_blocks = 10;                                    // [walls] drag_blocks: blocks for the error bar
+  double reference_length = 0.0;                          // [walls] reference_length: d of Re (0: none)
+  double reference_area = 0.0;                             // [walls] reference_area: A of C_D (0: none)
+  double viscosity = 0.0;                                  // [walls] viscosity: mu of Re (0: none)
+};
+
 struct SimulationSpec {
   std::string source;                           // file the spec came from (for messages)
   std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic box lengths
@@ -188,6 +271,7 @@ struct SimulationSpec {
   NoiseDistribution noise = NoiseDistribution::Uniform;  // [run] noise
   std::uint64_t steps = 1000;                   // [run] steps
   double max_velocity = 1.0e3;                  // [run] max_velocity: blow-up threshold on |v|
+  double max_density = 100.0;                   // [run] max_density: blow-up threshold on the local density (mdpd)
   int threads = 0;                              // [run] threads (0 = OpenMP default)
 
   NeighborMethod neighbor = NeighborMethod::Cells;  // [neighbor] method
@@ -209,7 +293,10 @@ struct SimulationSpec {
   double bond_reach = 0;                        // longest bond or angle leg allowed; validate(): default the
                                                 // largest pair cutoff. Neighbour cells (and so ghost layers)
                                                 // are at least max(cutoff, reach) + skin wide.
+  std::vector<SolidSpec> solids;                // [[solid]]
+  WallsSpec walls;                              // [walls]
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
+  SurfaceTensionSpec surface_tension;           // [analysis.surface_tension]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -2,6 +2,7 @@
 // for a spec read from TOML (io/config calls it) and for one built in C++ alike.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "mesodpd/spec.hpp"
 
@@ -33,5 +34,11 @@ class SpecError : public ConfigError {
 // nothing. Throws SpecError naming the key. Reading init.lammps_data itself is left to the engine
 // (see check_initial_state in src/engine/initial_state.hpp); validate only checks the file exists.
 void validate(SimulationSpec& spec);
+
+// Legal but doubtful choices of a validated spec, one sentence each (the program prints them as
+// "warning: ..."): a many-body DPD mixture whose B_ij or r_d differ between pairs has no potential
+// (Warren 2003), so its "energy" column is only a diagnostic and its phase behaviour is not that of a
+// free energy.
+std::vector<std::string> spec_warnings(const SimulationSpec& spec);
 
 }  // namespace mesodpd

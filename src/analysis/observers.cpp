@@ -100,6 +100,7 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
   const bool restarted = opt_.restarted;
   if (opt_.progress && comm.root()) progress_.emplace(start.step, opt_.final_step);
   late_from_ = start.step + (opt_.final_step > start.step ? (opt_.final_step - start.step) / 2 : 0);
+  for (const auto& sp : s.species) frozen_.push_back(sp.frozen ? 1 : 0);
   if (!measuring()) return;
   double mass = 0;
   if (s.poiseuille.enabled) {
@@ -126,7 +127,11 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
           restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
       thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
       if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
-      if (!append) thermo_ << thermo_csv_header() << '\n';
+      if (!append) {
+        thermo_ << thermo_csv_header();
+        for (const ThermoColumn& c : opt_.columns) thermo_ << ',' << c.name;
+        thermo_ << '\n';
+      }
     }
     const Box& box = start.box;
     const double len[3] = {box.len.x, box.len.y, box.len.z};
@@ -136,6 +141,9 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
                        s.poiseuille.force, mass / box.volume());
     if (s.rdf.enabled) rdf_.emplace(static_cast<std::size_t>(s.rdf.bins), s.rdf.rmax);
     if (s.msd.enabled) msd_.emplace();
+    if (s.surface_tension.enabled)
+      tension_.emplace(s.surface_tension.axis, len[s.surface_tension.axis],
+                       static_cast<std::size_t>(s.surface_tension.blocks));
     if (s.dump.enabled && files()) {
       const bool gsd = s.dump.format == DumpFormat::Gsd;
       const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
@@ -185,6 +193,7 @@ void Observers::save(ByteWriter& w) const {
     w.put_string(f.spec().name);
     w.put_vector(section.bytes());
   }
+  save_section(w, tension_);
 }
 
 void Observers::load(ByteReader& r, const std::string& context) {
@@ -205,6 +214,8 @@ void Observers::load(ByteReader& r, const std::string& context) {
         f.load(section, context);
       }
   }
+  if (r.remaining() == 0) return;  // a checkpoint from before the surface tension existed
+  load_section(r, tension_, context);
 }
 
 void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
@@ -243,12 +254,15 @@ void Observers::observe(const StepContext& ctx) {
     if (!ctx.pair_sums) throw std::logic_error("Observers: thermo output due but no pair sums were computed");
     // Temperature across a driven flow only: the streaming velocity is not heat.
     const int flow_axis = s.poiseuille.enabled ? s.poiseuille.flow_axis : -1;
-    ThermoState t = compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm);
+    ThermoState t =
+        compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm, frozen_);
     t.step = step;
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = ctx.neighbor_builds;
+    std::string extra;
+    for (const ThermoColumn& c : opt_.columns) extra += fmt::format(",{:.12g}", c.value(ctx));
     if (comm.root() && files()) {
-      thermo_ << thermo_csv_row(t) << '\n';
+      thermo_ << thermo_csv_row(t) << extra << '\n';
       thermo_.flush();
     }
     history_.push_back(t);
@@ -259,6 +273,7 @@ void Observers::observe(const StepContext& ctx) {
     }
     pressure_sum_ += t.pressure;
     ++thermo_samples_;
+    if (tension_ && step >= s.surface_tension.start) tension_->add(t.p_tensor);
   }
   // The velocity profile is summed in integers, so each rank bins its own particles. The other
   // analyses see the whole system in id order (gathered on the root under MPI), so their sums are
@@ -391,6 +406,12 @@ std::string Observers::finish(const StepContext& ctx) {
     if (files()) summary += f.write(opt_.out_dir);
   }
   if (files() && rdf_ && rdf_->samples() > 0) rdf_->write_csv(out("rdf.csv").string());
+  if (tension_ && tension_->samples() > 0) {
+    if (files()) tension_->write_json(out("surface_tension.json").string());
+    const BlockMean b = tension_->result();
+    summary += fmt::format("surface tension sigma = {:.4f} +- {:.4f} ({} thermo rows in {} blocks, normal {})\n", b.mean,
+                           b.err, b.samples, b.blocks, "xyz"[s.surface_tension.axis]);
+  }
   if (msd_ && msd_->size() > 2) {
     if (files()) msd_->write_csv(out("msd.csv").string());
     summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());

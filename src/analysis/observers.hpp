@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "analysis/binned_fields.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
+#include "analysis/surface_tension.hpp"
 #include "analysis/thermo.hpp"
 #include "analysis/velocity_profile.hpp"
 #include "core/stage.hpp"
@@ -33,6 +35,13 @@ inline constexpr double kTemperatureTolerance = 0.05;
 std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
                                                std::uint64_t samples);
 
+// An extra column of thermo.csv (walls: reflections, penetrations). value() is called on every rank at
+// every thermo row (it may be collective) and its result on the root is written.
+struct ThermoColumn {
+  std::string name;
+  std::function<double(const StepContext&)> value;
+};
+
 struct ObserverSettings {
   std::filesystem::path out_dir;   // empty: no files (thermo, profiles, trajectories are not kept)
   bool progress = false;           // progress bar or log lines on the root
@@ -41,6 +50,7 @@ struct ObserverSettings {
   // Measure (thermo rows, profile, RDF, MSD) and keep the results in memory even without an output
   // directory: for programs that read them through the API (the Python module) rather than from files.
   bool record = false;
+  std::vector<ThermoColumn> columns;  // appended to every thermo row, in this order
 };
 
 class Observers final : public Stage {
@@ -92,6 +102,7 @@ class Observers final : public Stage {
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;
   std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
+  std::optional<SurfaceTension> tension_;
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;
@@ -101,6 +112,7 @@ class Observers final : public Stage {
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;
   std::vector<std::string> warnings_;
+  std::vector<std::uint8_t> frozen_;  // by species: wall particles, left out of the temperature
   std::vector<ThermoState> history_;
   // Thermo rows after the midpoint of this run (not of the runs before a restart), for the warning.
   std::uint64_t late_from_ = 0, late_samples_ = 0;

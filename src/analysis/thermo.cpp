@@ -15,10 +15,14 @@ double unfixed128(Int128 q) { return static_cast<double>(q) / kKineticScale; }
 }  // namespace
 
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums, int flow_axis, const Comm& comm) {
+                           const PairSums& sums, int flow_axis, const Comm& comm,
+                           const std::vector<std::uint8_t>& frozen) {
   ThermoState s;
   Int128 kq[6] = {0, 0, 0, 0, 0, 0}, mq[3] = {0, 0, 0};
+  Int128 counted = 0;
   for (std::size_t i = 0; i < p.n_local; ++i) {
+    if (!frozen.empty() && frozen[static_cast<std::size_t>(p.species[i])]) continue;
+    ++counted;
     const double m = mass[static_cast<std::size_t>(p.species[i])];
     const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
     kq[0] += fixed128(m * vx * vx);
@@ -31,7 +35,7 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
     mq[1] += fixed128(m * vy);
     mq[2] += fixed128(m * vz);
   }
-  Int128 all[10] = {kq[0], kq[1], kq[2], kq[3], kq[4], kq[5], mq[0], mq[1], mq[2], static_cast<Int128>(p.n_local)};
+  Int128 all[10] = {kq[0], kq[1], kq[2], kq[3], kq[4], kq[5], mq[0], mq[1], mq[2], counted};
   comm.sum(std::span<Int128>(all, 10));
   for (int q = 0; q < 6; ++q) kq[q] = all[q];
   for (int q = 0; q < 3; ++q) mq[q] = all[6 + q];

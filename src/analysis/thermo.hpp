@@ -30,8 +30,10 @@ struct ThermoState {
 
 // flow_axis: 0, 1, 2 for a driven flow along x, y, z (reverse Poiseuille), -1 for none. The kinetic
 // sums run over the local particles of every rank of `comm` (exact integer sums); `sums` are global.
+// Particles of species with frozen[species] != 0 (wall particles) are left out of the kinetic sums.
 ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mass, const Box& box,
-                           const PairSums& sums, int flow_axis = -1, const Comm& comm = Comm::serial());
+                           const PairSums& sums, int flow_axis = -1, const Comm& comm = Comm::serial(),
+                           const std::vector<std::uint8_t>& frozen = {});
 
 // The header of thermo.csv and one row, at full precision.
 std::string thermo_csv_header();

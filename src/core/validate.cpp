@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "boundary/geometry.hpp"
 #include "io/frame.hpp"
 
 namespace mesodpd {
@@ -93,7 +94,7 @@ std::string species_key(std::size_t k, std::string_view field) { return fmt::for
 // The largest interaction range of any pair (the pairs are resolved by then).
 double largest_cutoff(const SimulationSpec& spec) {
   double cutoff = 0.0;
-  for (const PairSpec& p : spec.pairs) cutoff = std::max({cutoff, p.rc, p.rd});
+  for (const PairSpec& p : spec.pairs) cutoff = std::max(cutoff, p.range(spec.pair_style));
   return cutoff;
 }
 
@@ -103,11 +104,19 @@ double largest_cutoff(const SimulationSpec& spec) {
 void validate_system(SimulationSpec& spec) {
   check("system.box", spec.box, kPositive);
   const auto& per = spec.periodic;
-  // The engine handles bounded axes (docs/architecture.md, "Boundaries"), but until walls exist nothing
-  // would keep the particles in.
-  if (!(per[0] && per[1] && per[2]))
+  // A bounded axis needs solids ([[solid]]) closing both of its faces; validate_walls checks that they
+  // do. Without any solid nothing would keep the particles in.
+  if (!(per[0] && per[1] && per[2]) && spec.solids.empty()) {
+    for (std::size_t k = 0; k < spec.species.size(); ++k)
+      for (std::size_t d = 0; d < 3; ++d)
+        if (!per[d] && spec.species[k].body_force[d] != 0)
+          fail(species_key(k, "body_force"), fmt::format("[{}, {}, {}]", spec.species[k].body_force[0],
+                                                          spec.species[k].body_force[1], spec.species[k].body_force[2]),
+               fmt::format("pushes along {}, which is bounded (system.periodic) with no [[solid]] walls to hold the "
+                           "fluid; add walls or make the axis periodic", "xyz"[d]));
     fail("system.periodic", fmt::format("[{}, {}, {}]", per[0], per[1], per[2]),
-         "a bounded axis (false) needs walls to close it, which are not implemented yet; use [true, true, true]");
+         "a bounded axis (false) needs [[solid]] walls to close it; add walls or use [true, true, true]");
+  }
   check("system.kT", spec.kT, kPositive);
 }
 
@@ -166,19 +175,44 @@ void validate_species(SimulationSpec& spec) {
   }
 }
 
-void validate_pair_params(const std::string& prefix, const PairParams& p) {
-  check(prefix + ".a", p.a, kNonNegative);
+void validate_pair_params(const std::string& prefix, const PairParams& p, PairStyle style) {
+  // Many-body DPD's A_ij is attractive (negative) in Warren's liquid; every other law repels with a >= 0.
+  check(prefix + ".a", p.a, style == PairStyle::Mdpd ? kFinite : kNonNegative);
   check(prefix + ".gamma", p.gamma, kNonNegative);
   check(prefix + ".sigma", p.sigma, kNonNegative);
   check(prefix + ".rc", p.rc, kCutoff);
   check(prefix + ".rd", p.rd, kCutoff);
   check(prefix + ".s", p.s, kCutoff);
+  check(prefix + ".b", p.b, kNonNegative);
+  check(prefix + ".repulsion", p.repulsion, kNonNegative);
+  check(prefix + ".attraction", p.attraction, kNonNegative);
+  check(prefix + ".rc1", p.rc1, kCutoff);
+  check(prefix + ".rc2", p.rc2, kCutoff);
+  // Keys the style does not read would be silently ignored: refuse them.
+  const char* style_name = style == PairStyle::Dpd ? "dpd" : style == PairStyle::Soft ? "soft"
+                           : style == PairStyle::Mdpd ? "mdpd" : "spline";
+  const auto refuse = [&](const char* name, const std::optional<double>& v, const char* used_by) {
+    if (v)
+      fail(prefix + "." + name, show(*v),
+           fmt::format("not used with pair.style = \"{}\" (only with pair.style = \"{}\")", style_name, used_by));
+  };
+  if (style != PairStyle::Mdpd) refuse("b", p.b, "mdpd");
+  if (style != PairStyle::Spline)
+    for (const auto& [name, value] : {std::pair{"repulsion", p.repulsion}, {"rc1", p.rc1}, {"attraction", p.attraction},
+                                      {"rc2", p.rc2}})
+      refuse(name, value, "spline");
 }
 
 // Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
 void validate_pairs(SimulationSpec& spec) {
   const PairSection& sec = spec.pair_section;
-  validate_pair_params("pair", sec.params);
+  validate_pair_params("pair", sec.params, spec.pair_style);
+  if (sec.kernel && spec.pair_style != PairStyle::Mdpd)
+    fail("pair.kernel", *sec.kernel == DensityKernelChoice::Warren ? "\"warren\"" : "\"lucy\"",
+         "only used with pair.style = \"mdpd\" (the local-density kernel of many-body DPD)");
+  if (spec.pair_style == PairStyle::Mdpd && sec.mixing == Mixing::Geometric)
+    fail("pair.mixing", "\"geometric\"",
+         "not available with pair.style = \"mdpd\" (A_ij is usually negative); set pair.a and [[pair.override]]");
   if (spec.pair_style == PairStyle::Soft) {
     // The soft law reads a (its amplitude A) and rc only: a thermostat key would be silently ignored.
     auto refuse_thermostat_keys = [](const std::string& prefix, const PairParams& p) {
@@ -214,7 +248,7 @@ void validate_pairs(SimulationSpec& spec) {
     std::size_t& slot = override_of[std::min(id[0], id[1]) * n + std::max(id[0], id[1])];
     if (slot != kNone) fail(key + ".species", show(o.species), fmt::format("this pair is already set by pair.override[{}]", slot));
     slot = k;
-    validate_pair_params(key, o.params);
+    validate_pair_params(key, o.params, spec.pair_style);
   }
 
   spec.pairs.clear();
@@ -240,6 +274,43 @@ void validate_pairs(SimulationSpec& spec) {
       p.rc = pick(&PairParams::rc).value_or(1.0);
       p.rd = pick(&PairParams::rd).value_or(p.rc);  // rd follows this pair's rc unless set
       p.s = pick(&PairParams::s).value_or(2.0);
+      // The key a resolved value came from (the override's when it sets it), for messages.
+      const auto key_of = [&](std::optional<double> PairParams::*member, const char* name) {
+        return (ov && (ov->*member) ? ov_key : std::string("pair")) + "." + name;
+      };
+      const std::string pair_names = fmt::format("species pair ({}, {})", names[i], names[j]);
+      // A value the style needs that neither the override nor [pair] gives.
+      const auto required = [&](std::optional<double> PairParams::*member, const char* name, const char* what) {
+        const auto v = pick(member);
+        if (!v)
+          fail(k != kNone ? ov_key + "." + name : std::string("pair.") + name, "",
+               fmt::format("missing for {}: pair.style = \"{}\" needs {} (no default)", pair_names,
+                           spec.pair_style == PairStyle::Mdpd ? "mdpd" : "spline", what));
+        return *v;
+      };
+      if (spec.pair_style == PairStyle::Mdpd) {
+        // seed 000 Eq. 17: A_ij, B_ij and the many-body range r_d are physics choices without a neutral value.
+        p.a = required(&PairParams::a, "a", "A_ij (Warren's liquid: a = -40)");
+        p.b = required(&PairParams::b, "b", "B_ij (Warren's liquid: b = 25)");
+        p.rd = required(&PairParams::rd, "rd", "the many-body range r_d (Warren: rd = 0.75)");
+        if (p.rd > p.rc)
+          fail(key_of(&PairParams::rd, "rd"), show(p.rd),
+               fmt::format("the many-body range r_d must not exceed rc = {} for {} (seed 000 Eq. 17)", p.rc, pair_names));
+        if (p.a < 0 && p.b == 0)
+          fail(key_of(&PairParams::b, "b"), show(p.b),
+               fmt::format("with a = {} < 0 and no density-dependent repulsion the fluid of {} collapses; "
+                           "set b > 0 (Warren's liquid: a = -40, b = 25)", p.a, pair_names));
+      } else if (spec.pair_style == PairStyle::Spline) {
+        p.repulsion = required(&PairParams::repulsion, "repulsion", "A of seed 000 Eq. 19 (Liu: repulsion = 2.0)");
+        p.rc1 = required(&PairParams::rc1, "rc1", "r_c1 of seed 000 Eq. 19 (Liu: rc1 = 0.8)");
+        p.attraction = required(&PairParams::attraction, "attraction", "B of seed 000 Eq. 19 (Liu: attraction = 0..1.1)");
+        p.rc2 = required(&PairParams::rc2, "rc2", "r_c2 of seed 000 Eq. 19 (Liu: rc2 = 1.0)");
+        // U(0) = a (A - B): without a repulsive core the particles pile up on each other.
+        if (p.attraction > 0 && p.repulsion <= p.attraction)
+          fail(key_of(&PairParams::attraction, "attraction"), show(p.attraction),
+               fmt::format("must be smaller than repulsion = {} for {}: U(0) = a (A - B) must be positive, "
+                           "or the particles collapse onto each other", p.repulsion, pair_names));
+      }
 
       // sigma is not independent: fluctuation-dissipation fixes sigma^2 = 2 gamma kT (seed 000 Eq. 7).
       if (const auto sigma = pick(&PairParams::sigma)) {
@@ -264,6 +335,7 @@ void validate_integrator(SimulationSpec& spec) {
 
 void validate_run(SimulationSpec& spec) {
   check("run.max_velocity", spec.max_velocity, kPositive);
+  check("run.max_density", spec.max_density, kPositive);
   check_between("run.threads", spec.threads, 0, kMaxThreads);
 }
 
@@ -319,6 +391,10 @@ void validate_analysis(SimulationSpec& spec) {
     check_at_least("analysis.rdf.every", spec.rdf.every, 1);
   }
   if (spec.msd.enabled) check_at_least("analysis.msd.every", spec.msd.every, 1);
+  if (spec.surface_tension.enabled) {
+    check_between("analysis.surface_tension.axis", spec.surface_tension.axis, 0, 2);
+    check_between("analysis.surface_tension.blocks", spec.surface_tension.blocks, 2, 1000);
+  }
 }
 
 // [analysis.fields] / [[analysis.fields]]: the grid, the region, the species selection, centring and fit.
@@ -609,6 +685,207 @@ void validate_engine_limits(SimulationSpec& spec) {
     }
 }
 
+// [[solid]] blocks and [walls]: shapes, their species, the box faces they close, and the fluid they leave.
+void validate_shape(const std::string& key, const ShapeSpec& sh, const SimulationSpec& spec, double depth) {
+  auto nonzero = [&](const std::string& k, const std::array<double, 3>& v) {
+    check(k, v, kFinite);
+    if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(k, "[0, 0, 0]", "must not be the zero vector");
+  };
+  // A solid thinner than the interaction range lets the fluid on either side interact through it.
+  auto thick_enough = [&](const std::string& k, double thickness) {
+    if (thickness < depth)
+      fail(k, show(thickness), fmt::format("gives a solid {} thick, thinner than walls.depth = {} (the largest "
+                                           "cutoff): fluid would interact through it", thickness, depth));
+  };
+  switch (sh.kind) {
+    case ShapeKind::Plane:
+      check(key + ".point", sh.point, kFinite);
+      nonzero(key + ".normal", sh.normal);
+      // A half space cannot be periodic: along a periodic axis its far side would meet the fluid.
+      for (std::size_t d = 0; d < 3; ++d)
+        if (sh.normal[d] != 0 && spec.periodic[d])
+          fail(key + ".normal", fmt::format("[{}, {}, {}]", sh.normal[0], sh.normal[1], sh.normal[2]),
+               fmt::format("has a component along {}, which is periodic; a plane's normal must lie along bounded axes "
+                           "(system.periodic), or use shape = \"box\" for a slab", "xyz"[d]));
+      break;
+    case ShapeKind::Cylinder:
+      check(key + ".center", sh.center, kFinite);
+      nonzero(key + ".direction", sh.direction);
+      check(key + ".radius", sh.radius, kPositive);
+      thick_enough(key + ".radius", 2 * sh.radius);
+      break;
+    case ShapeKind::Sphere:
+      check(key + ".center", sh.center, kFinite);
+      check(key + ".radius", sh.radius, kPositive);
+      thick_enough(key + ".radius", 2 * sh.radius);
+      break;
+    case ShapeKind::Box:
+      check(key + ".lo", sh.lo, kFinite);
+      check(key + ".hi", sh.hi, kFinite);
+      for (std::size_t d = 0; d < 3; ++d) {
+        if (!(sh.hi[d] > sh.lo[d]))
+          fail(fmt::format("{}.hi[{}]", key, d), show(sh.hi[d]), fmt::format("must exceed {}.lo[{}] = {}", key, d, sh.lo[d]));
+        // Only where the box ends inside the simulation box does the fluid meet both of its sides.
+        if (sh.lo[d] > 0 || sh.hi[d] < spec.box[d]) thick_enough(fmt::format("{}.hi[{}]", key, d), sh.hi[d] - sh.lo[d]);
+      }
+      break;
+    case ShapeKind::Pillars: {
+      check(key + ".point", sh.point, kFinite);
+      check(key + ".spacing", sh.spacing, kPositive);
+      check(key + ".radius", sh.radius, kPositive);
+      thick_enough(key + ".radius", 2 * sh.radius);
+      if (sh.spacing <= 2 * sh.radius)
+        fail(key + ".spacing", show(sh.spacing), fmt::format("must exceed the pillar diameter 2 x {}.radius = {}", key, 2 * sh.radius));
+      // The lattice must repeat with the box along the periodic in-plane axes.
+      const std::size_t a0 = sh.axis == 0 ? 1 : 0, a1 = sh.axis == 2 ? 1 : 2;
+      const double period[2] = {sh.spacing, sh.lattice == Lattice::Square ? sh.spacing : sh.spacing * std::sqrt(3.0)};
+      const std::size_t axes[2] = {a0, a1};
+      for (int q = 0; q < 2; ++q) {
+        const std::size_t d = axes[q];
+        const double cells = spec.box[d] / period[q];
+        if (spec.periodic[d] && std::abs(cells - std::round(cells)) > 1e-6 * cells)
+          fail(fmt::format("system.box[{}]", d), show(spec.box[d]),
+               fmt::format("is not a multiple of the {} lattice period {} along {} ({}.spacing = {}): the pillars "
+                           "would not repeat with the periodic box", sh.lattice == Lattice::Square ? "square" : "hexagonal",
+                           period[q], "xyz"[d], key, sh.spacing));
+      }
+      break;
+    }
+    case ShapeKind::Image: {
+      check(key + ".voxel_size", sh.voxel_size, kPositive);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(sh.file, ec)) fail(key + ".file", show(sh.file), "no such file");
+      break;
+    }
+    case ShapeKind::Union:
+    case ShapeKind::Difference:
+      if (sh.parts.empty()) fail(key + ".parts", "", "needs at least one shape");
+      for (std::size_t k = 0; k < sh.parts.size(); ++k)
+        validate_shape(fmt::format("{}.parts[{}]", key, k), sh.parts[k], spec,
+                       sh.kind == ShapeKind::Difference && k > 0 ? 0.0 : depth);
+      break;
+  }
+}
+
+void validate_walls(SimulationSpec& spec) {
+  WallsSpec& w = spec.walls;
+  check("walls.layer", w.layer, Range{0.0, 1.0, true, true});
+  check("walls.depth", w.depth, kNonNegative);
+  check_at_least("walls.drag_every", w.drag_every, 1);
+  check_at_least("walls.drag_blocks", w.drag_blocks, 2);
+  check("walls.reference_length", w.reference_length, kNonNegative);
+  check("walls.reference_area", w.reference_area, kNonNegative);
+  check("walls.viscosity", w.viscosity, kNonNegative);
+  if (w.depth == 0) w.depth = largest_cutoff(spec);
+  bool any_mobile = false;
+  for (std::size_t k = 0; k < spec.species.size(); ++k) {
+    const SpeciesSpec& sp = spec.species[k];
+    any_mobile = any_mobile || !sp.frozen;
+    if (sp.frozen && (sp.body_force[0] != 0 || sp.body_force[1] != 0 || sp.body_force[2] != 0))
+      fail(species_key(k, "body_force"), "", "a frozen species is never moved: a body force on it has no effect");
+  }
+  if (!any_mobile) fail("species", "", "every species is frozen: at least one must be a mobile fluid species");
+  if (spec.solids.empty()) return;
+  if (spec.poiseuille.enabled)
+    fail("poiseuille", "", "reverse Poiseuille flow is for periodic boxes; between [[solid]] walls drive the flow "
+                           "with [[species]] body_force");
+  if (!spec.data_file.empty())
+    fail("init.lammps_data", show(spec.data_file),
+         "[[solid]] walls are built from a generated fluid; they cannot be combined with a data file yet");
+  if (!spec.molecules.empty())
+    fail("molecule", show(spec.molecules.front().name),
+         "[[molecule]] chains are placed as random walks through the whole box and would cross the [[solid]] "
+         "walls; molecules between walls are not supported yet");
+  for (std::size_t b = 0; b < spec.solids.size(); ++b) {
+    SolidSpec& s = spec.solids[b];
+    const std::string key = fmt::format("solid[{}]", b);
+    if (!valid_species_name(s.name))
+      fail(key + ".name", show(s.name), "must be non-empty and use only letters, digits and '_'");
+    for (std::size_t prev = 0; prev < b; ++prev)
+      if (spec.solids[prev].name == s.name)
+        fail(key + ".name", show(s.name), fmt::format("duplicate solid name (also solid[{}].name)", prev));
+    s.species_index = -1;
+    for (std::size_t k = 0; k < spec.species.size(); ++k)
+      if (spec.species[k].name == s.species) s.species_index = static_cast<int>(k);
+    if (s.species_index < 0) fail(key + ".species", show(s.species), "no [[species]] has this name");
+    if (!spec.species[static_cast<std::size_t>(s.species_index)].frozen)
+      fail(key + ".species", show(s.species),
+           fmt::format("must be a frozen species (set frozen = true in species[{}])", s.species_index));
+    check(key + ".velocity", s.velocity, kFinite);
+    validate_shape(key, s.shape, spec, w.depth);
+    // A moving wall keeps its shape only if it slides along itself: planes moving in their own plane.
+    const auto& v = s.velocity;
+    if (v[0] != 0 || v[1] != 0 || v[2] != 0) {
+      const auto& n = s.shape.normal;
+      if (s.shape.kind != ShapeKind::Plane || std::abs(v[0] * n[0] + v[1] * n[1] + v[2] * n[2]) > 1e-12)
+        fail(key + ".velocity", fmt::format("[{}, {}, {}]", v[0], v[1], v[2]),
+             "only a plane may move, and only along its own surface (velocity perpendicular to its normal)");
+    }
+  }
+  // Build the geometry once (this reads image files and checks their size against the box).
+  Box box;
+  box.len = {spec.box[0], spec.box[1], spec.box[2]};
+  box.periodic = spec.periodic;
+  Geometry geo;
+  try {
+    geo = Geometry(spec.solids, box);
+  } catch (const SpecError&) {
+    throw;
+  } catch (const ConfigError& e) {
+    // Image errors name the key at the start of their message.
+    const std::string what = e.what();
+    const std::size_t colon = what.find(": ");
+    fail(colon == std::string::npos ? "solid" : what.substr(0, colon), "",
+         colon == std::string::npos ? what : what.substr(colon + 2));
+  }
+  // Some fluid must remain: sample the box on a grid of about 0.5 r_c (at most 2^21 points).
+  std::array<int, 3> n{};
+  double cells = 1;
+  for (std::size_t d = 0; d < 3; ++d) {
+    n[d] = std::max(1, static_cast<int>(std::ceil(spec.box[d] / 0.5)));
+    cells *= n[d];
+  }
+  const double shrink = cells > 2097152.0 ? std::cbrt(cells / 2097152.0) : 1.0;
+  for (std::size_t d = 0; d < 3; ++d) n[d] = std::max(1, static_cast<int>(n[d] / shrink));
+  bool fluid = false;
+  for (int k = 0; k < n[2] && !fluid; ++k)
+    for (int j = 0; j < n[1] && !fluid; ++j)
+      for (int i = 0; i < n[0] && !fluid; ++i)
+        fluid = geo.sdf(Vec3{(i + 0.5) * spec.box[0] / n[0], (j + 0.5) * spec.box[1] / n[1],
+                             (k + 0.5) * spec.box[2] / n[2]}) > 0;
+  if (!fluid) fail("solid", "", "the solids fill the whole box: no fluid is left between them");
+  // Each face of a bounded axis must be closed by at least walls.depth of solid.
+  for (int d = 0; d < 3; ++d) {
+    if (spec.periodic[static_cast<std::size_t>(d)]) continue;
+    const int u = d == 0 ? 1 : 0, v = d == 2 ? 1 : 2;
+    const int nu = std::min(400, std::max(1, static_cast<int>(std::ceil(spec.box[static_cast<std::size_t>(u)] / 0.25))));
+    const int nv = std::min(400, std::max(1, static_cast<int>(std::ceil(spec.box[static_cast<std::size_t>(v)] / 0.25))));
+    // First any point of a face with no solid behind it, then any where the solid is too thin.
+    for (int pass = 0; pass < 2; ++pass)
+      for (int side = 0; side < 2; ++side)
+        for (int b = 0; b < nv; ++b)
+          for (int a = 0; a < nu; ++a) {
+            double q[3];
+            q[u] = (a + 0.5) * spec.box[static_cast<std::size_t>(u)] / nu;
+            q[v] = (b + 0.5) * spec.box[static_cast<std::size_t>(v)] / nv;
+            q[d] = side == 0 ? 0.0 : spec.box[static_cast<std::size_t>(d)];
+            int body = -1;
+            const double sd = geo.sdf(Vec3{q[0], q[1], q[2]}, body);
+            const std::string per = fmt::format("[{}, {}, {}]", spec.periodic[0], spec.periodic[1], spec.periodic[2]);
+            if (pass == 0 && sd >= 0)
+              fail("system.periodic", per,
+                   fmt::format("axis {} is bounded, but no [[solid]] closes its face {} = {} at ({}, {}, {}): the fluid "
+                               "would leave the box", "xyz"[d], "xyz"[d], q[d], q[0], q[1], q[2]));
+            if (pass == 1 && sd > -w.depth + 1e-9)
+              fail("system.periodic", per,
+                   fmt::format("axis {} is bounded, but the wall at its face {} = {} (solid[{}]) is only {} thick at "
+                               "({}, {}, {}), thinner than walls.depth = {} (the largest cutoff): walls must hold the "
+                               "fluid's whole interaction range", "xyz"[d], "xyz"[d], q[d], body, -sd, q[0], q[1], q[2],
+                               w.depth));
+          }
+  }
+}
+
 // The sections in the order they run: a section may use what an earlier one resolved (species counts
 // need the box; pairs need the species; the engine limits need the pairs). A new part of the schema
 // adds its function here.
@@ -616,13 +893,30 @@ using Section = void (*)(SimulationSpec&);
 constexpr Section kSections[] = {
     validate_system, validate_init,   validate_species,    validate_pairs,    validate_integrator,
     validate_run,    validate_neighbor, validate_parallel, validate_output,   validate_poiseuille,
-    validate_analysis, validate_fields, validate_topology, validate_engine_limits,
+    validate_analysis, validate_fields, validate_walls, validate_topology, validate_engine_limits,
 };
 
 }  // namespace
 
 void validate(SimulationSpec& spec) {
   for (const Section section : kSections) section(spec);
+}
+
+std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
+  std::vector<std::string> out;
+  if (spec.pair_style == PairStyle::Mdpd && !spec.pairs.empty()) {
+    const PairSpec& first = spec.pairs.front();
+    for (const PairSpec& p : spec.pairs)
+      if (p.b != first.b || p.rd != first.rd) {
+        out.push_back(fmt::format(
+            "pair.style = \"mdpd\" with B_ij or r_d that differ between species pairs (b = {} and {}, rd = {} and "
+            "{}): such a many-body force derives from no potential (Warren, Phys. Rev. E 68, 066702 (2003)), so the "
+            "energy in thermo.csv is not conserved and the mixture need not reach a Boltzmann equilibrium",
+            first.b, p.b, first.rd, p.rd));
+        break;
+      }
+  }
+  return out;
 }
 
 }  // namespace mesodpd

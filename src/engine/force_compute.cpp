@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -241,6 +242,15 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
   std::int64_t* total = job.totals;
+  // Frozen wall particles (body != 0) do not interact with each other: force passes skip such pairs
+  // when the system holds any. Density passes keep them (a wall particle's density counts its
+  // neighbours in the wall too).
+  bool any_frozen = false;
+  if constexpr (!Pass::kSymmetric) {
+    const std::int32_t* bd = p.body.data();
+    for (std::size_t k = 0; k < ntot && !any_frozen; ++k) any_frozen = bd[k] != 0;
+  }
+  const std::uint32_t* __restrict body = reinterpret_cast<const std::uint32_t*>(p.body.data());
 
 #pragma omp parallel num_threads(nthreads)
   {
@@ -339,6 +349,9 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
         const PairReal* __restrict cy = b.cand_y.data() + a;
         const PairReal* __restrict cz = b.cand_z.data() + a;
         const std::uint32_t* __restrict cj = b.cand_j.data() + a;
+        const std::uint32_t* __restrict cb = b.cand_body.data() + a;
+        // A frozen i keeps only mobile candidates.
+        const bool frozen_i = any_frozen && body[i] != 0;
         if (b.m + cnt > PairBatch::kCapacity) flush();
         const std::size_t m0 = b.m;
         std::size_t m = m0;
@@ -350,7 +363,9 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
           const auto dz = hn::Sub(zi, hn::LoadU(dr, cz + k));
           const auto r2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
           const auto keep = hn::And(valid, hn::Lt(r2, lim));
-          m += hn::CompressStore(hn::LoadU(dru, cj + k), index_mask(keep), dru, b.j + m);
+          auto keep_j = index_mask(keep);
+          if (frozen_i) keep_j = hn::And(keep_j, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)));
+          m += hn::CompressStore(hn::LoadU(dru, cj + k), keep_j, dru, b.j + m);
         }
         spread_i(i, m0, m);
         b.m = m;
@@ -385,7 +400,9 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
           b.cand_y.resize(2 * total_c + PairBatch::kSlack);
           b.cand_z.resize(2 * total_c + PairBatch::kSlack);
           b.cand_j.resize(2 * total_c + PairBatch::kSlack);
+          if (any_frozen) b.cand_body.resize(2 * total_c + PairBatch::kSlack);
         }
+        if (any_frozen && b.cand_body.size() < b.cand_j.size()) b.cand_body.resize(b.cand_j.size());
         // Candidate coordinates are taken relative to a particle of the cell, so that they are small
         // numbers whose float rounding (single-precision build) stays far below the filter's margin
         // however large the box.
@@ -412,9 +429,17 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
             store_candidates(hn::Add(load(y + j), vsy), b.cand_y.data() + mc);
             store_candidates(hn::Add(load(z + j), vsz), b.cand_z.data() + mc);
             hn::StoreU(hn::Iota(du, j), du, b.cand_j.data() + mc);
+            if (any_frozen) {
+              const auto valid_u = hn::FirstN(du, j1 - j);
+              if constexpr (kFaultFreeMaskedLoad)
+                hn::StoreU(hn::MaskedLoad(valid_u, du, body + j), du, b.cand_body.data() + mc);
+              else
+                hn::StoreU(hn::LoadU(du, body + j), du, b.cand_body.data() + mc);
+            }
             mc += std::min<std::size_t>(nd, j1 - j);
           }
           for (; j < j1; ++j, ++mc) {
+            if (any_frozen) b.cand_body[mc] = body[j];
             b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
             b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
             b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
@@ -432,9 +457,18 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
           if (b.m == PairBatch::kCapacity) flush();
           const std::size_t m0 = b.m;
           const std::size_t take = std::min<std::size_t>(off[i + 1] - k, PairBatch::kCapacity - m0);
-          for (std::size_t q = 0; q < take; ++q) b.j[m0 + q] = nbr[k + q];
+          std::size_t m = m0;
+          if (any_frozen && body[i] != 0) {
+            for (std::size_t q = 0; q < take; ++q) {
+              b.j[m] = nbr[k + q];
+              m += body[nbr[k + q]] == 0 ? 1 : 0;
+            }
+          } else {
+            for (std::size_t q = 0; q < take; ++q) b.j[m0 + q] = nbr[k + q];
+            m = m0 + take;
+          }
           k += static_cast<std::uint32_t>(take);
-          b.m = m0 + take;
+          b.m = m;
           spread_i(static_cast<std::uint32_t>(i), m0, b.m);
         }
       }
@@ -639,6 +673,8 @@ ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
 void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& list, std::uint64_t step,
                            double dt, bool with_sums, PairSums& sums, Halo* halo, const double* density) {
   apply_simd_cap();
+  if (density == nullptr && std::visit([](const auto& t) { return std::decay_t<decltype(t)>::LawType::kDensity; }, laws_))
+    throw std::logic_error("ForceCompute::compute: this pair law reads local densities; run compute_density first");
   PairJob job;
   job.p = &p;
   job.box = &box;

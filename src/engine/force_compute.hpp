@@ -27,12 +27,6 @@ struct NoiseSettings {
 };
 
 
-// A density kernel and its per-species-pair range, for ForceCompute::compute_density.
-struct DensitySettings {
-  DensityKernelKind kernel = DensityKernelKind::Warren;
-  PairTable<DensityParamsT<double>> table;
-};
-
 struct PairWorkspace;  // per-thread batches and integer buffers (engine/pair_batch.hpp)
 
 class ForceCompute {

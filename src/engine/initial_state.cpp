@@ -7,8 +7,10 @@
 #include <cmath>
 #include <array>
 #include <limits>
+#include <optional>
 #include <vector>
 
+#include "boundary/geometry.hpp"
 #include "core/philox.hpp"
 #include "io/lammps_data_reader.hpp"
 
@@ -96,6 +98,7 @@ struct NewParticle {
   std::uint32_t id = 0;
   std::int32_t species = 0;
   std::int32_t mol = 0;
+  std::int32_t body = 0;  // [[solid]] index + 1 of a frozen wall particle
   std::array<double, 3> r{};
   std::array<std::int32_t, 3> image{};
 };
@@ -207,6 +210,14 @@ MaxwellShift maxwell_shift(const SimulationSpec& spec, std::uint64_t n, ForAll&&
 
 void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, ParticleData& p) {
   for (std::size_t k = 0; k < p.n_local; ++k) {
+    if (p.body[k] > 0) {
+      // A frozen wall particle moves with its solid.
+      const auto& w = spec.solids[static_cast<std::size_t>(p.body[k] - 1)].velocity;
+      p.vx[k] = w[0];
+      p.vy[k] = w[1];
+      p.vz[k] = w[2];
+      continue;
+    }
     double v[3];
     raw_maxwell(spec, p.id[k], p.species[k], v);
     p.vx[k] = (v[0] - shift.u[0]) * shift.scale;
@@ -217,8 +228,8 @@ void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, Partic
 
 }  // namespace
 
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep,
-                        Topology* topology) {
+std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep,
+                                 Topology* topology) {
   if (!spec.data_file.empty()) {
     const bool has_velocities = load_data_file(spec, box, p, topology);
     if (spec.velocities == VelocityInit::File && !has_velocities)
@@ -227,7 +238,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
                                     spec.data_file));
     if (spec.velocities == VelocityInit::Maxwell) assign_maxwell_velocities(spec, p);
     if (spec.velocities == VelocityInit::Zero) zero_velocities(p);
-    return;
+    return p.n_local;
   }
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
   box.periodic = spec.periodic;
@@ -247,16 +258,16 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
     while (grid[0] * grid[1] * grid[2] < lattice_total) ++grid[0];
   }
   // Molecules first (ids 1 .. M, molecule after molecule), then the free particles of each species.
-  std::uint64_t molecule_beads = 0;
-  for (const MoleculeSpec& m : spec.molecules) molecule_beads += m.count * m.beads.size();
-  total += molecule_beads;
-  if (total > std::numeric_limits<std::uint32_t>::max())
-    throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", total));
-  // Visits every particle in id order; positions are functions of the id (random placement), of the
-  // lattice site, or of the molecule's random walk.
+  // Solids: the fluid inside them is frozen near their surface and left out deeper in (validate()
+  // refuses molecules together with solids, so no bead is ever placed inside one).
+  std::optional<Geometry> geometry;
+  if (!spec.solids.empty()) geometry.emplace(spec.solids, box);
+  // Visits every particle in id order; positions are functions of the draw number (the id when there
+  // are no solids), of the lattice site, or of the molecule's random walk.
   auto for_each_particle = [&](auto&& f) {
     NewParticle q;
     std::uint64_t i = 0, site = 0;
+    std::uint32_t next_id = 1;  // LAMMPS-style ids start at 1
     std::uint64_t mol = 0;
     std::vector<std::array<double, 3>> walk;
     for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
@@ -265,7 +276,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
         ++mol;
         random_walk(spec, box, k, mol, walk);
         for (std::size_t b = 0; b < m.beads.size(); ++b, ++i) {
-          q.id = static_cast<std::uint32_t>(i + 1);
+          q.id = next_id++;
           q.species = m.beads[b];
           q.mol = static_cast<std::int32_t>(mol);
           q.r = walk[b];
@@ -281,7 +292,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
     q.image = {0, 0, 0};
     for (std::size_t s = 0; s < spec.species.size(); ++s) {
       for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
-        const auto id = static_cast<std::uint32_t>(i + 1);  // LAMMPS-style ids start at 1
+        const auto id = static_cast<std::uint32_t>(i + 1);  // the draw number
         double x, y, z;
         if (spec.species[s].placement == Placement::Lattice) {
           const std::uint64_t gx = site % grid[0], gy = (site / grid[0]) % grid[1], gz = site / (grid[0] * grid[1]);
@@ -295,18 +306,32 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
           y = (static_cast<double>(b.v[1]) / 4294967296.0) * box.len.y;
           z = (static_cast<double>(b.v[2]) / 4294967296.0) * box.len.z;
         }
-        q.id = id;
         q.species = static_cast<std::int32_t>(s);
+        q.body = 0;
+        if (geometry && !spec.species[s].frozen) {
+          int b = -1;
+          const double d = geometry->sdf(Vec3{x, y, z}, b);
+          if (d < 0) {
+            if (d < -spec.walls.depth) continue;  // deep inside: no fluid ever comes near it
+            q.species = spec.solids[static_cast<std::size_t>(b)].species_index;
+            q.body = b + 1;
+          }
+        }
+        q.id = next_id++;
         q.r = {x, y, z};
         f(q);
       }
     }
   };
   std::size_t kept = 0;
-  if (keep)
-    for_each_particle([&](const NewParticle& q) { kept += keep(q.r[0], q.r[1], q.r[2]) ? 1 : 0; });
-  else
-    kept = total;
+  std::uint64_t system_total = 0, mobile_total = 0;
+  for_each_particle([&](const NewParticle& q) {
+    ++system_total;
+    mobile_total += q.body == 0 ? 1 : 0;
+    kept += !keep || keep(q.r[0], q.r[1], q.r[2]) ? 1 : 0;
+  });
+  if (system_total > std::numeric_limits<std::uint32_t>::max())
+    throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", system_total));
   p.resize(kept);
   p.n_local = kept;
   p.n_ghost = 0;
@@ -315,6 +340,7 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
     if (keep && !keep(q.r[0], q.r[1], q.r[2])) return;
     p.id[i] = q.id;
     p.species[i] = q.species;
+    p.body[i] = q.body;
     p.x[i] = q.r[0];
     p.y[i] = q.r[1];
     p.z[i] = q.r[2];
@@ -327,18 +353,22 @@ void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, c
   if (topology != nullptr) *topology = molecule_topology(spec);
   if (spec.velocities == VelocityInit::Zero) {
     zero_velocities(p);
-    return;
+    return system_total;
   }
   // Maxwell-Boltzmann: the centre-of-mass velocity and the rescaling come from sums over the whole
   // system in id order, so a rank that keeps only its own particles gets the same bits as one rank.
-  const MaxwellShift shift = maxwell_shift(spec, total, [&](auto&& f) {
-    for_each_particle([&](const NewParticle& q) { f(q.id, q.species); });
+  // Frozen particles take their solid's velocity instead and are left out of the sums.
+  const MaxwellShift shift = maxwell_shift(spec, mobile_total, [&](auto&& f) {
+    for_each_particle([&](const NewParticle& q) {
+      if (q.body == 0) f(q.id, q.species);
+    });
   });
   apply_maxwell(spec, shift, p);
+  return system_total;
 }
 
 std::uint64_t check_initial_state(const SimulationSpec& spec) {
-  if (spec.data_file.empty()) {
+  if (spec.data_file.empty() && spec.solids.empty()) {
     std::uint64_t n = 0;
     for (const auto& s : spec.species) n += s.count;
     for (const auto& m : spec.molecules) n += m.count * m.beads.size();
@@ -346,8 +376,7 @@ std::uint64_t check_initial_state(const SimulationSpec& spec) {
   }
   Box box;
   ParticleData p;
-  make_initial_state(spec, box, p);
-  return p.n_local;
+  return make_initial_state(spec, box, p);
 }
 
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {

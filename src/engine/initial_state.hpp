@@ -17,11 +17,15 @@ using KeepPredicate = std::function<bool(double x, double y, double z)>;
 // velocities are pure functions of (seed, particle id) and of sums over the whole system in id order,
 // so they do not depend on thread or rank count. With `keep`, a generated system (no data file)
 // stores only the particles it accepts, so a rank never holds the whole system; a data file is
-// always read whole.
+// always read whole. With [[solid]] blocks, the generated fluid fills the whole box and the particles
+// inside a solid become that solid's frozen species (body = solid index + 1, velocity = the solid's) if
+// they lie within walls.depth of its surface and are left out otherwise; ids stay consecutive (seed 000
+// Sect. 3.2.2, without the equilibration before freezing). Returns the particle count of the whole
+// system.
 // With `topology`, also returns the bonds and angles (by global id) of the generated molecules or of
 // the data file.
-void make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {},
-                        Topology* topology = nullptr);
+std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {},
+                                 Topology* topology = nullptr);
 
 // The pre-flight check of an initial state, shared by `mesodpd check` and the public API: with
 // init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state

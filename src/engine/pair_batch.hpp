@@ -37,6 +37,7 @@ struct PairBatch {
   // Candidates of the current cell, nearest-image coordinates relative to a particle of the cell.
   std::vector<PairReal> cand_x, cand_y, cand_z;
   std::vector<std::uint32_t> cand_j;
+  std::vector<std::uint32_t> cand_body;  // body of each candidate, gathered only when frozen particles exist
 };
 
 struct PairWorkspace {

@@ -22,21 +22,38 @@ PairTable<Params> fill_table(const SimulationSpec& spec, Make&& make, Range&& ra
     }
   return t;
 }
+
+// The DPD parameters of a pair with conservative amplitude a, dissipative range rd and interaction range
+// `range`.
+DpdPairParams dpd_params(const SimulationSpec& spec, const PairSpec& ps, double a, double rd, double range) {
+  DpdPairParams q;
+  q.a = a;
+  q.gamma = ps.gamma;
+  q.sigma = std::sqrt(2.0 * ps.gamma * spec.kT);  // seed 000 Eq. 7
+  q.rc = ps.rc;
+  q.rd = rd;
+  q.s = ps.s;
+  q.rcut2 = range * range;
+  return q;
+}
 }  // namespace
 
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec) {
-  return fill_table<DpdPairParams>(spec, [&](const PairSpec& ps) {
-    DpdPairParams q;
-    q.a = ps.a;
-    q.gamma = ps.gamma;
-    q.sigma = std::sqrt(2.0 * ps.gamma * spec.kT);  // seed 000 Eq. 7
-    q.rc = ps.rc;
-    q.rd = ps.rd;
-    q.s = ps.s;
-    const double range = std::max(ps.rc, ps.rd);
-    q.rcut2 = range * range;
-    return q;
-  }, [](const PairSpec& ps) { return std::max(ps.rc, ps.rd); });
+  return fill_table<DpdPairParams>(
+      spec, [&](const PairSpec& ps) { return dpd_params(spec, ps, ps.a, ps.rd, ps.range(PairStyle::Dpd)); },
+      [](const PairSpec& ps) { return ps.range(PairStyle::Dpd); });
+}
+
+std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec) {
+  if (spec.pair_style != PairStyle::Mdpd) return std::nullopt;
+  DensitySettings ds;
+  ds.kernel = spec.pair_section.kernel.value_or(DensityKernelChoice::Warren) == DensityKernelChoice::Lucy
+                  ? DensityKernelKind::Lucy
+                  : DensityKernelKind::Warren;
+  ds.table = fill_table<DensityParamsT<double>>(
+      spec, [](const PairSpec& ps) { return DensityParamsT<double>{ps.rd, ps.rd * ps.rd}; },
+      [](const PairSpec& ps) { return ps.rd; });
+  return ds;
 }
 
 PairLawTables make_pair_laws(const SimulationSpec& spec) {
@@ -47,6 +64,19 @@ PairLawTables make_pair_laws(const SimulationSpec& spec) {
       return LawTable<SoftLaw>{fill_table<SoftPairParamsT<double>>(spec, [](const PairSpec& ps) {
         return SoftPairParamsT<double>{ps.a, ps.rc, ps.rc * ps.rc};
       }, [](const PairSpec& ps) { return ps.rc; })};
+    case PairStyle::Mdpd:
+      // seed 000 Eq. 17; the dissipative and random forces act over r_c (as LAMMPS's pair_style mdpd).
+      return LawTable<MdpdLaw>{fill_table<MdpdPairParamsT<double>>(spec, [&](const PairSpec& ps) {
+        const double range = ps.range(PairStyle::Mdpd);
+        return MdpdPairParamsT<double>{ps.a, ps.b, ps.rd, dpd_params(spec, ps, 0.0, ps.rc, range), range * range};
+      }, [](const PairSpec& ps) { return ps.range(PairStyle::Mdpd); })};
+    case PairStyle::Spline:
+      // seed 000 Eqs. 19-23; the dissipative and random forces act over rd.
+      return LawTable<SplineLaw>{fill_table<SplinePairParamsT<double>>(spec, [&](const PairSpec& ps) {
+        const double range = ps.range(PairStyle::Spline);
+        return SplinePairParamsT<double>{ps.a,  ps.repulsion, ps.rc1, ps.attraction, ps.rc2,
+                                         dpd_params(spec, ps, 0.0, ps.rd, range), range * range};
+      }, [](const PairSpec& ps) { return ps.range(PairStyle::Spline); })};
   }
   return LawTable<DpdLaw>{make_pair_table(spec)};
 }

@@ -2,14 +2,18 @@
 // spec. Adding a law: its header in src/physics/, one entry in PairLawTables, one case in
 // make_pair_laws (docs/architecture.md, "Add a pair force law").
 #pragma once
+#include <optional>
 #include <utility>
 #include <variant>
 #include <vector>
 
 #include "mesodpd/spec.hpp"
+#include "physics/density_kernel.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/mdpd_pair.hpp"
 #include "physics/pair_table.hpp"
 #include "physics/soft_pair.hpp"
+#include "physics/spline_pair.hpp"
 
 namespace mesodpd {
 
@@ -36,10 +40,19 @@ struct LawTable {
 };
 
 // Every law the shared pair loop is instantiated for (per SIMD target), in the order of PairStyle.
-using PairLawTables = std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>>;
+using PairLawTables = std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>>;
+
+// A density kernel and its per-species-pair range, for ForceCompute::compute_density.
+struct DensitySettings {
+  DensityKernelKind kernel = DensityKernelKind::Warren;
+  PairTable<DensityParamsT<double>> table;
+};
 
 // The law and parameter table of a validated spec (sigma from the fluctuation-dissipation relation).
 PairLawTables make_pair_laws(const SimulationSpec& spec);
+// The density pass a spec's law needs before its force pass (many-body DPD: the kernel of pair.kernel
+// over each pair's r_d), or nothing.
+std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec);
 // The DPD table of a spec (the conservative part also serves the g(r) pressure integral).
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec);
 

@@ -37,6 +37,8 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
         Law::with_evaluator(lt.table.params, [&](auto eval) {
           for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx, double dy,
                                                           double dz, double r) {
+            // Two frozen wall particles never interact (neither moves), as in the shared loop.
+            if (p.body[i] != 0 && p.body[j] != 0) return;
             const auto& pp = lt.table(p.species[i], p.species[j]);
             const double inv_r = r > 0 ? 1.0 / r : 0.0;
             PairInput<double> in;

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -14,6 +15,7 @@
 
 #include "analysis/observers.hpp"
 #include "boundary/external_fields.hpp"
+#include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
 #include "engine/initial_state.hpp"
 #include "io/byte_buffer.hpp"
@@ -29,6 +31,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       forces_(make_pair_laws(spec_),
               NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
+  density_ = make_density_settings(spec_);
   // Cells (and so ghost layers) also reach as far as the longest bond allowed (bonds.reach).
   nlist_ = NeighborList(NeighborSettings{std::max(forces_.max_cutoff(), spec_.bond_reach),
                                          spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
@@ -38,7 +41,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     integrator_ = EulerIntegrator{};
   for (const auto& s : spec_.species) {
     mass_.push_back(s.mass);
-    inv_mass_.push_back(1.0 / s.mass);
+    // Frozen wall particles have infinite mass: the integrator leaves their velocity (the wall's) alone.
+    inv_mass_.push_back(s.frozen ? 0.0 : 1.0 / s.mass);
   }
   // External fields act after the pair forces: species body forces, then reverse Poiseuille.
   add_external_fields(spec_, stages_);
@@ -64,12 +68,10 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     decompose();
     const CellGrid global(box_, range);
     Topology topology;
-    make_initial_state(spec_, box_, p_, [&](double x, double y, double z) { return halo_.owns(x, y, z, global); },
-                       &topology);
+    n_total_ = make_initial_state(spec_, box_, p_,
+                                  [&](double x, double y, double z) { return halo_.owns(x, y, z, global); },
+                                  &topology);
     make_bonded(std::move(topology));
-    n_total_ = 0;
-    for (const auto& s : spec_.species) n_total_ += s.count;
-    for (const auto& m : spec_.molecules) n_total_ += m.count * m.beads.size();
   } else {
     // A checkpoint or data file is read whole on every rank, which then keeps its own particles.
     if (restarted) {
@@ -92,11 +94,26 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   }
-  observers_ = &stages_.add(StagePoint::EndOfStep,
-                            std::make_unique<Observers>(spec_,
-                                                        ObserverSettings{options_.out_dir, options_.progress,
-                                                                         restarted, final_step_, options_.record},
-                                                        context()));
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}};
+  if (!spec_.solids.empty()) {
+    // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
+    // velocities are complete, drag samples at the end of each step, and
+    // the reflection and penetration counts as thermo columns.
+    walls_ = std::make_shared<Walls>(spec_, box_, spec_.integrator == IntegratorKind::GrootWarren, step_, final_step_);
+    walls_->set_output(options_.out_dir, restarted, halo_.comm());
+    std::shared_ptr<Walls> w = walls_;
+    stages_.add(StagePoint::AfterFirstHalf, make_stage([w](StepContext& ctx) { w->mirror_positions(ctx); }));
+    stages_.add(StagePoint::AfterSecondHalf, make_stage([w](StepContext& ctx) { w->reflect_velocities(ctx); }));
+    stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->sample_drag(ctx); }));
+    auto counts = std::make_shared<std::array<std::uint64_t, 2>>();
+    observer_settings.columns.push_back({"reflections", [w, counts](const StepContext& ctx) {
+                                           *counts = w->take_counts(ctx.comm);
+                                           return static_cast<double>((*counts)[0]);
+                                         }});
+    observer_settings.columns.push_back(
+        {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
+  }
+  observers_ = &stages_.add(StagePoint::EndOfStep, std::make_unique<Observers>(spec_, std::move(observer_settings), context()));
   if (!pending_observer_state_.empty()) {
     ByteReader r(pending_observer_state_, options_.restart.string());
     observers_->load(r, options_.restart.string());
@@ -198,7 +215,9 @@ void Simulation::add_bonded_forces(bool with_sums) {
 }
 
 void Simulation::compute_forces(bool with_sums) {
-  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_);
+  // A many-body law first needs every particle's local density (ghosts included), then the force pass.
+  const double* rho = compute_density();
+  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
   add_bonded_forces(with_sums);
   sums_valid_ = with_sums;
   // External fields, walls, bonds: each adds to the pair forces, in registration order.
@@ -232,6 +251,33 @@ void Simulation::step() {
   check_health();
   // 7. Measure and write: the observers, then the periodic checkpoint.
   run_stages(StagePoint::EndOfStep);
+}
+
+const double* Simulation::compute_density() {
+  if (!density_) return nullptr;
+  forces_.compute_density(p_, box_, nlist_, *density_, rho_, &halo_);
+  const auto [rho, id] = densest_particle();
+  if (rho > spec_.max_density)
+    throw BlowUpError(step_, id,
+                      fmt::format("simulation blew up at step {}: particle id {} has local density {:.4g} > "
+                                  "run.max_density = {} (the fluid is collapsing: check that B_ij > 0 is large enough "
+                                  "against A_ij < 0, or reduce integrator.dt)",
+                                  step_, id, rho, spec_.max_density));
+  return rho_.data();
+}
+
+std::pair<double, std::uint32_t> Simulation::densest_particle() const {
+  // Non-negative doubles order like their bit patterns, so an integer max over ranks finds the largest.
+  std::uint64_t best = 0;
+  const std::size_t n = std::min(p_.n_local, rho_.size());
+  for (std::size_t i = 0; i < n; ++i) best = std::max(best, std::bit_cast<std::uint64_t>(std::abs(rho_[i])));
+  const Comm& comm = halo_.comm();
+  if (comm.distributed()) best = comm.max(best);
+  std::uint64_t id = std::numeric_limits<std::uint64_t>::max();
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::bit_cast<std::uint64_t>(std::abs(rho_[i])) == best) id = std::min<std::uint64_t>(id, p_.id[i]);
+  if (comm.distributed()) id = comm.min(id);
+  return {std::bit_cast<double>(best), static_cast<std::uint32_t>(id)};
 }
 
 void Simulation::check_health() const {
@@ -270,10 +316,16 @@ void Simulation::check_health() const {
     state[3] = std::sqrt(p_.vx[bad] * p_.vx[bad] + p_.vy[bad] * p_.vy[bad] + p_.vz[bad] * p_.vz[bad]);
   }
   comm.sum(std::span<double>(state, 4));
+  std::string density;
+  if (density_) {
+    const auto [rho, densest] = densest_particle();
+    density = fmt::format("; the largest local density at this step's force evaluation was {:.4g} (particle id {})",
+                          rho, densest);
+  }
   throw BlowUpError(step_, static_cast<std::uint32_t>(id),
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
-                                "(run.max_velocity = {}); reduce integrator.dt or check the forces",
-                                step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity));
+                                "(run.max_velocity = {}){}; reduce integrator.dt or check the forces",
+                                step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity, density));
 }
 
 void Simulation::report_lost_particle() const {
@@ -313,14 +365,17 @@ ThermoState Simulation::thermo() {
     thermo_forces_[0] = p_.fx;
     thermo_forces_[1] = p_.fy;
     thermo_forces_[2] = p_.fz;
-    forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_);
+    const double* rho = compute_density();  // positions unchanged: the same densities as the step's
+    forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
     add_bonded_forces(true);
     thermo_forces_[0].swap(p_.fx);
     thermo_forces_[1].swap(p_.fy);
     thermo_forces_[2].swap(p_.fz);
     sums_valid_ = true;
   }
-  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm());
+  std::vector<std::uint8_t> frozen;
+  for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
+  ThermoState t = compute_thermo(p_, mass_, box_, sums_, flow_axis(), halo_.comm(), frozen);
   t.step = step_;
   t.time = static_cast<double>(step_) * spec_.dt;
   t.neighbor_builds = neighbor_builds();
@@ -344,6 +399,10 @@ std::string Simulation::finish() {
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   if (observers_) summary += observers_->finish(context());
+  if (walls_) {
+    const std::string w = walls_->finish(halo_.comm(), options_.out_dir);
+    if (halo_.comm().root()) summary += w;
+  }
   return summary;
 }
 

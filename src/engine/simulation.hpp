@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/box.hpp"
@@ -47,6 +48,7 @@ struct RunOptions {
 };
 
 class Observers;  // measurements and writers (analysis/observers.hpp)
+class Walls;      // reflections and drag at [[solid]] walls (boundary/walls.hpp)
 
 class Simulation {
  public:
@@ -96,6 +98,9 @@ class Simulation {
   // Axis (0, 1, 2) of a driven reverse-Poiseuille flow, or -1: thermo's temperature across the flow.
   int flow_axis() const { return spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1; }
   std::uint64_t final_step() const { return final_step_; }
+  // The walls of a run with [[solid]] blocks (reflection counts, drag), or null.
+  const Walls* walls() const { return walls_.get(); }
+  Walls* walls() { return walls_.get(); }
   const NeighborList& neighbor_list() const { return nlist_; }
   // Bonds and angles (by global id) and their force evaluation; empty without molecules.
   const BondedForces& bonded() const { return bonds_; }
@@ -111,9 +116,15 @@ class Simulation {
   void write_checkpoint(const std::filesystem::path& file) const;
 
  private:
-  void compute_forces(bool with_sums);  // pair forces, bonded forces, then the Forces stages
+  void compute_forces(bool with_sums);  // local densities (if the law needs them), pair forces, bonded
+                                        // forces, then the Forces stages
   void add_bonded_forces(bool with_sums);  // throws BlowUpError for a broken or over-long bond
   void make_bonded(Topology topology);
+  // The density pass of a many-body law (nullptr when the law needs none); stops the run when a local
+  // density exceeds run.max_density.
+  const double* compute_density();
+  // The largest local density over all ranks and the smallest id holding it (collective).
+  std::pair<double, std::uint32_t> densest_particle() const;
   StepContext context();
   void run_stages(StagePoint at);
   void check_health() const;
@@ -135,6 +146,8 @@ class Simulation {
   std::uint64_t n_total_ = 0;
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
+  std::optional<DensitySettings> density_;  // the law's density pass (many-body DPD), if any
+  std::vector<double> rho_;                 // local densities of locals and ghosts from that pass
   PairSums sums_;
   std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;
@@ -142,6 +155,7 @@ class Simulation {
   double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
   StageList stages_;                 // owns the stages, the observers among them
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
+  std::shared_ptr<Walls> walls_;     // shared with its two stages
 };
 
 

@@ -301,6 +301,11 @@ class Section {
 };
 
 // ---------------------------------------------------------------------------------------------
+// The keys of a shape table ([[solid]] blocks add name, species and velocity).
+const std::vector<std::string_view> kShapeKeys{"shape",   "point",   "normal", "center",     "direction",
+                                               "radius",  "lo",      "hi",     "lattice",    "spacing",
+                                               "axis",    "file",    "voxel_size", "invert", "parts"};
+
 // Typed reads. Only what the spec's types cannot hold is refused here (a negative count, an int
 // overflow); every range is validate()'s.
 
@@ -335,6 +340,11 @@ PairParams read_pair_params(const Section& s) {
   k.rc = s.real("rc");
   k.rd = s.real("rd");
   k.s = s.real("s");
+  k.b = s.real("b");
+  k.repulsion = s.real("repulsion");
+  k.rc1 = s.real("rc1");
+  k.attraction = s.real("attraction");
+  k.rc2 = s.real("rc2");
   return k;
 }
 
@@ -362,7 +372,7 @@ void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spe
 
 void read_species(const Section& top, SimulationSpec& spec) {
   const std::vector<Section> list =
-      top.tables("species", {"name", "mass", "a", "body_force", "density", "count", "placement"});
+      top.tables("species", {"name", "mass", "a", "body_force", "density", "count", "placement", "frozen"});
   if (list.empty()) top.missing("species", " (at least one [[species]] block is needed)");
   const bool from_data = !spec.data_file.empty();
   for (const Section& s : list) {
@@ -375,7 +385,12 @@ void read_species(const Section& top, SimulationSpec& spec) {
     sp.body_force = s.vec3("body_force").value_or(std::array<double, 3>{0, 0, 0});
     sp.density = s.real("density");
     const auto count = optional_int(s, "count", 0);
-    if (from_data) {
+    sp.frozen = s.boolean("frozen").value_or(false);
+    if (sp.frozen) {
+      // Frozen (wall) particles are made by freezing the fluid inside [[solid]] blocks.
+      for (const std::string_view key : {"count", "density", "placement"})
+        if (s.has(key)) s.bad(key, "not allowed for a frozen species (its particles are the fluid frozen inside [[solid]] blocks)");
+    } else if (from_data) {
       // Positions, and so counts, come from the data file (validate() refuses a density; a count or
       // placement, even a zero or the default one, is refused here where its presence is known).
       for (const std::string_view key : {"count", "placement"}) {
@@ -397,15 +412,21 @@ void read_species(const Section& top, SimulationSpec& spec) {
 }
 
 void read_pair(const Section& top, SimulationSpec& spec) {
-  const Section pair =
-      top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "mixing", "override"});
-  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd}, {"soft", PairStyle::Soft}})
+  const Section pair = top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
+                                                   "rc1", "attraction", "rc2", "kernel", "mixing", "override"});
+  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd},
+                                                     {"soft", PairStyle::Soft},
+                                                     {"mdpd", PairStyle::Mdpd},
+                                                     {"spline", PairStyle::Spline}})
                         .value_or(PairStyle::Dpd);
   PairSection& sec = spec.pair_section;
+  sec.kernel = pair.choice<DensityKernelChoice>("kernel", {{"warren", DensityKernelChoice::Warren},
+                                                           {"lucy", DensityKernelChoice::Lucy}});
   sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
                    .value_or(Mixing::Explicit);
   sec.params = read_pair_params(pair);
-  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s"})) {
+  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
+                                                  "rc1", "attraction", "rc2"})) {
     PairOverride ov;
     auto names = o.strings("species");
     if (!names) o.missing("species", " (the two species names of the pair)");
@@ -513,12 +534,13 @@ void read_integrator(const Section& top, SimulationSpec& spec) {
 }
 
 void read_run(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "threads"});
+  const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "max_density", "threads"});
   read_uint(s, "steps", spec.steps);
   spec.noise = s.choice<NoiseDistribution>("noise", {{"uniform", NoiseDistribution::Uniform},
                                                      {"gaussian", NoiseDistribution::Gaussian}})
                    .value_or(NoiseDistribution::Uniform);
   read_real(s, "max_velocity", spec.max_velocity);
+  read_real(s, "max_density", spec.max_density);
   read_int(s, "threads", spec.threads);
 }
 
@@ -581,6 +603,95 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
   read_int(*s, "blocks", p.blocks);
 }
 
+// One shape table: a [[solid]] block or an element of its `parts`. Keys that the shape does not use
+// are refused, so a cylinder's `radius` written under a plane is not silently ignored.
+ShapeSpec read_shape(const Section& s, const fs::path& base_dir) {
+  ShapeSpec sh;
+  const auto kind = s.choice<ShapeKind>("shape", {{"plane", ShapeKind::Plane},
+                                                   {"cylinder", ShapeKind::Cylinder},
+                                                   {"sphere", ShapeKind::Sphere},
+                                                   {"box", ShapeKind::Box},
+                                                   {"pillars", ShapeKind::Pillars},
+                                                   {"image", ShapeKind::Image},
+                                                   {"union", ShapeKind::Union},
+                                                   {"difference", ShapeKind::Difference}});
+  if (!kind) s.missing("shape", " (plane, cylinder, sphere, box, pillars, image, union or difference)");
+  sh.kind = *kind;
+  std::vector<std::string_view> required, optional;
+  switch (sh.kind) {
+    case ShapeKind::Plane: required = {"point", "normal"}; break;
+    case ShapeKind::Cylinder: required = {"center", "direction", "radius"}; break;
+    case ShapeKind::Sphere: required = {"center", "radius"}; break;
+    case ShapeKind::Box: required = {"lo", "hi"}; break;
+    case ShapeKind::Pillars: required = {"lattice", "spacing", "radius"}, optional = {"axis", "point"}; break;
+    case ShapeKind::Image: required = {"file", "voxel_size"}, optional = {"axis", "invert"}; break;
+    case ShapeKind::Union:
+    case ShapeKind::Difference: required = {"parts"}; break;
+  }
+  const std::vector<std::string_view> shape_keys{"point", "normal", "center", "direction", "radius", "lo", "hi",
+                                                 "lattice", "spacing", "axis", "file", "voxel_size", "invert", "parts"};
+  for (const std::string_view key : shape_keys) {
+    const bool needed = std::find(required.begin(), required.end(), key) != required.end();
+    const bool allowed = needed || std::find(optional.begin(), optional.end(), key) != optional.end();
+    if (s.has(key) && !allowed) s.bad(key, fmt::format("not used by {} = {}", s.name("shape"), show(*s.get("shape"))));
+    if (!s.has(key) && needed) s.missing(key, fmt::format(" (needed by {} = {})", s.name("shape"), show(*s.get("shape"))));
+  }
+  if (auto v = s.vec3("point")) sh.point = *v;
+  if (auto v = s.vec3("normal")) sh.normal = *v;
+  if (auto v = s.vec3("center")) sh.center = *v;
+  if (auto v = s.vec3("direction")) sh.direction = *v;
+  if (auto v = s.vec3("lo")) sh.lo = *v;
+  if (auto v = s.vec3("hi")) sh.hi = *v;
+  read_real(s, "radius", sh.radius);
+  read_real(s, "spacing", sh.spacing);
+  read_real(s, "voxel_size", sh.voxel_size);
+  sh.lattice = s.choice<Lattice>("lattice", {{"square", Lattice::Square}, {"hexagonal", Lattice::Hexagonal}})
+                   .value_or(Lattice::Square);
+  sh.axis = s.choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
+  sh.invert = s.boolean("invert").value_or(false);
+  if (const auto file = s.string("file")) {
+    if (file->empty()) s.bad("file", "must be a non-empty path");
+    sh.file = fs::absolute(base_dir / fs::path(*file)).lexically_normal().string();
+  }
+  for (const Section& part : s.tables("parts", kShapeKeys)) sh.parts.push_back(read_shape(part, base_dir));
+  if (s.has("parts") && sh.parts.empty()) s.bad("parts", "needs at least one shape table");
+  return sh;
+}
+
+void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
+  std::vector<std::string_view> keys = kShapeKeys;
+  for (const std::string_view k : {"name", "species", "velocity"}) keys.push_back(k);
+  for (const Section& s : top.tables("solid", keys)) {
+    SolidSpec solid;
+    const auto name = s.string("name");
+    if (!name) s.missing("name");
+    solid.name = *name;
+    const auto species = s.string("species");
+    if (!species) s.missing("species", " (the frozen species its particles become)");
+    solid.species = *species;
+    solid.velocity = s.vec3("velocity").value_or(std::array<double, 3>{0, 0, 0});
+    solid.shape = read_shape(s, base_dir);
+    spec.solids.push_back(std::move(solid));
+  }
+  const auto w = top.table("walls", {"reflection", "layer", "depth", "drag_start", "drag_every", "drag_blocks",
+                                     "reference_length", "reference_area", "viscosity"});
+  if (!w) return;
+  WallsSpec& ws = spec.walls;
+  ws.reflection = w->choice<ReflectionKind>("reflection", {{"none", ReflectionKind::None},
+                                                           {"specular", ReflectionKind::Specular},
+                                                           {"bounce_back", ReflectionKind::BounceBack},
+                                                           {"maxwell", ReflectionKind::Maxwell}})
+                      .value_or(ReflectionKind::BounceBack);
+  read_real(*w, "layer", ws.layer);
+  read_real(*w, "depth", ws.depth);
+  read_uint(*w, "drag_start", ws.drag_start);
+  read_uint(*w, "drag_every", ws.drag_every);
+  read_int(*w, "drag_blocks", ws.drag_blocks);
+  read_real(*w, "reference_length", ws.reference_length);
+  read_real(*w, "reference_area", ws.reference_area);
+  read_real(*w, "viscosity", ws.viscosity);
+}
+
 void read_fields(const Section& f, SimulationSpec& spec) {
   FieldsSpec& out = spec.fields.emplace_back();
   if (auto name = f.string("name")) out.name = std::move(*name);
@@ -605,7 +716,7 @@ void read_fields(const Section& f, SimulationSpec& spec) {
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension"});
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -625,6 +736,13 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
     spec.msd.enabled = true;
     read_uint(*msd, "start", spec.msd.start);
     read_uint(*msd, "every", spec.msd.every);
+  }
+  if (const auto st = s.table("surface_tension", {"axis", "start", "blocks"})) {
+    SurfaceTensionSpec& t = spec.surface_tension;
+    t.enabled = true;
+    t.axis = st->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
+    read_uint(*st, "start", t.start);
+    read_int(*st, "blocks", t.blocks);
   }
 }
 
@@ -679,7 +797,8 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
 
   const Section top(root, "",
                     {"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
-                     "poiseuille", "analysis", "parallel", "bond_type", "angle_type", "molecule", "bonds"},
+                     "poiseuille", "analysis", "parallel", "solid", "walls", "bond_type", "angle_type",
+                     "molecule", "bonds"},
                     source_name);
   SimulationSpec spec;
   spec.source = source_name;
@@ -695,6 +814,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   read_output(top, spec);
   read_poiseuille(top, spec);
   read_analysis(top, spec);
+  read_solids(top, base_dir, spec);
   try {
     validate(spec);
   } catch (const SpecError& e) {

@@ -89,6 +89,23 @@ MESODPD_HD DpdPairForceT<Real> dpd_pair_force(const DpdPairParamsT<Real>& p, std
   return out;
 }
 
+// Calls f(Eval<W>{}) with the closed-form weight W shared by every entry of `table` (s_of(entry) is its
+// exponent s), or with the general pow form when they differ: the choice is made once per table, so
+// the pair loop does not branch on s. Shared by every law with DPD dissipative and random forces.
+template <template <WeightKind> class Eval, class Table, class S, class F>
+void with_weight_evaluator(const Table& table, S&& s_of, F&& f) {
+  WeightKind w = table.empty() ? WeightKind::General : weight_kind_of(static_cast<double>(s_of(table[0])));
+  for (const auto& q : table)
+    if (weight_kind_of(static_cast<double>(s_of(q))) != w) w = WeightKind::General;
+  switch (w) {
+    case WeightKind::Two: return f(Eval<WeightKind::Two>{});
+    case WeightKind::One: return f(Eval<WeightKind::One>{});
+    case WeightKind::Half: return f(Eval<WeightKind::Half>{});
+    case WeightKind::Quarter: return f(Eval<WeightKind::Quarter>{});
+    case WeightKind::General: return f(Eval<WeightKind::General>{});
+  }
+}
+
 // The standard DPD law as a functor for the shared pair loop (engine/force_compute.cpp) and the
 // reference loop. Parameters per species pair; the weight exponent picks a closed-form evaluator once
 // per table so the pair loop does not branch on s.
@@ -110,16 +127,7 @@ struct DpdLaw {
   // Calls f(Eval<W>{}) with the closed form shared by every pair of `table`, or the general pow form.
   template <class Table, class F>
   static void with_evaluator(const Table& table, F&& f) {
-    WeightKind w = table.empty() ? WeightKind::General : weight_kind_of(static_cast<double>(table[0].s));
-    for (const auto& q : table)
-      if (weight_kind_of(static_cast<double>(q.s)) != w) w = WeightKind::General;
-    switch (w) {
-      case WeightKind::Two: return f(Eval<WeightKind::Two>{});
-      case WeightKind::One: return f(Eval<WeightKind::One>{});
-      case WeightKind::Half: return f(Eval<WeightKind::Half>{});
-      case WeightKind::Quarter: return f(Eval<WeightKind::Quarter>{});
-      case WeightKind::General: return f(Eval<WeightKind::General>{});
-    }
+    with_weight_evaluator<Eval>(table, [](const auto& q) { return q.s; }, f);
   }
 };
 

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "io/config.hpp"
+#include "mesodpd/validate.hpp"
 
 namespace mesodpd {
 namespace {
@@ -275,7 +276,7 @@ TEST(Config, PeriodicAxes) {
   };
   EXPECT_EQ(parse_config(with("[true, true, true]"), "p.toml").periodic, (std::array<bool, 3>{true, true, true}));
   expect_error(with("[true, true, false]"),
-               {"system.periodic = [true, true, false]", "bounded axis", "walls", "not implemented yet"});
+               {"system.periodic = [true, true, false]", "bounded axis", "[[solid]] walls"});
   expect_error(with("[false, true, true]"), {"system.periodic", "walls"});
   expect_error(with("[true, true]"), {"system.periodic", "expected 3 booleans, got 2"});
   expect_error(with("[true, 1, true]"), {"system.periodic[1]", "boolean"});
@@ -835,4 +836,62 @@ TEST(Config, RejectsBadFields) {
 }
 
 }  // namespace
+
+TEST(Config, ManyBodyAndSplineStyles) {
+  const std::string mdpd = "[pair]\nstyle = \"mdpd\"\na = -40\nb = 25\nrd = 0.75\nkernel = \"lucy\"\n";
+  const SimulationSpec spec = parse_config(minimal_plus(mdpd), "test.toml");
+  EXPECT_EQ(spec.pair_style, PairStyle::Mdpd);
+  EXPECT_EQ(spec.pair(0, 0).a, -40.0);
+  EXPECT_EQ(spec.pair(0, 0).b, 25.0);
+  EXPECT_EQ(spec.pair(0, 0).rd, 0.75);
+  EXPECT_EQ(spec.pair_section.kernel, DensityKernelChoice::Lucy);
+  // Bad input: a kernel that does not exist, r_d beyond r_c, a collapsing sign combination, missing keys.
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\na = -40\nb = 25\nrd = 0.75\nkernel = \"lucky\"\n"),
+               {"pair.kernel", "\"warren\", \"lucy\"", "did you mean \"lucy\""});
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\na = -40\nb = 25\nrd = 1.2\n"),
+               {"pair.rd = 1.2", "must not exceed rc = 1"});
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\na = -40\nb = 0\nrd = 0.75\n"), {"pair.b = 0", "collapses"});
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\na = -40\nb = -5\nrd = 0.75\n"), {"pair.b = -5", ">= 0"});
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\na = -40\nrd = 0.75\n"), {"pair.b", "missing", "B_ij"});
+  expect_error(minimal_plus("[pair]\nstyle = \"mdpd\"\nb = 25\nrd = 0.75\n"), {"pair.a", "missing"});
+  expect_error(minimal_plus("[pair]\na = 25\nb = 25\n"), {"pair.b = 25", "not used with pair.style = \"dpd\""});
+  expect_error(minimal_plus("[pair]\nkernel = \"warren\"\n"), {"pair.kernel", "only used with pair.style = \"mdpd\""});
+  expect_error(minimal_plus("[pair]\na = -1\n"), {"pair.a = -1", ">= 0"});
+  expect_error(minimal_plus("[run]\nmax_density = 0\n"), {"run.max_density = 0", "> 0"});
+
+  const std::string spline = "[pair]\nstyle = \"spline\"\na = 18.75\nrepulsion = 2.0\nrc1 = 0.8\nattraction = 1.0\nrc2 = 1.0\n";
+  const SimulationSpec sp = parse_config(minimal_plus(spline + "[[pair.override]]\nspecies = [\"A\", \"A\"]\nattraction = 1.1\n"),
+                                         "test.toml");
+  EXPECT_EQ(sp.pair_style, PairStyle::Spline);
+  EXPECT_EQ(sp.pair(0, 0).attraction, 1.1);  // per pair
+  EXPECT_EQ(sp.pair(0, 0).rc1, 0.8);
+  expect_error(minimal_plus("[pair]\nstyle = \"spline\"\na = 18.75\nrepulsion = 2.0\nrc1 = 0.8\nattraction = 1.0\n"),
+               {"pair.rc2", "missing"});
+  expect_error(minimal_plus("[pair]\nstyle = \"spline\"\na = 1\nrepulsion = 1.0\nrc1 = 0.8\nattraction = 1.0\nrc2 = 1\n"),
+               {"pair.attraction = 1", "must be smaller than repulsion", "collapse"});
+  expect_error(minimal_plus(spline + "b = 3\n"), {"pair.b = 3", "not used with pair.style = \"spline\""});
+}
+
+TEST(Config, ManyBodyMixtureWithDifferentBIsWarnedAbout) {
+  const std::string two = R"(
+[system]
+box = [10, 10, 10]
+[[species]]
+name = "A"
+density = 3
+[[species]]
+name = "B"
+density = 3
+[pair]
+style = "mdpd"
+a = -40
+b = 25
+rd = 0.75
+)";
+  EXPECT_TRUE(spec_warnings(parse_config(two, "test.toml")).empty());
+  const auto w = spec_warnings(parse_config(two + "[[pair.override]]\nspecies = [\"A\", \"B\"]\nb = 20\n", "test.toml"));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("no potential"), std::string::npos) << w[0];
+}
+
 }  // namespace mesodpd

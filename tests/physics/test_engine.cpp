@@ -214,14 +214,7 @@ TEST(Conservation, TotalMomentumEveryStep) {
   }
 }
 
-namespace {
-std::map<std::uint32_t, std::array<double, 6>> state_by_id(const ParticleData& p) {
-  std::map<std::uint32_t, std::array<double, 6>> out;
-  for (std::size_t i = 0; i < p.n_local; ++i)
-    out[p.id[i]] = {p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i]};
-  return out;
-}
-}  // namespace
+using test::state_by_id;
 
 TEST(Reproducibility, BitIdenticalForOneTwoAndThreeThreads) {
   SimulationSpec spec = test::fluid_spec(7.0, 6.0, 8.0, 3.0);
