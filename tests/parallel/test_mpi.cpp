@@ -257,9 +257,10 @@ TEST(Mpi, ManyBodyRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
       "[[pair.override]]\nspecies = [\"A\", \"B\"]\na = -30.0\n\n"
       "[integrator]\ndt = 0.01\n\n[run]\nsteps = 400\n\n"
       "[output]\nthermo_every = 50\nprogress = false\n\n"
-      "[output.dump]\nevery = 100\nfields = [\"id\", \"species\", \"position\", \"velocity\", \"force\"]\n";
+      "[output.dump]\nevery = 100\nfields = [\"id\", \"species\", \"position\", \"velocity\", \"force\"]\n\n"
+      "[analysis.droplet]\nstart = 100\nevery = 50\ninner_radius = 1.5\nouter_radius = 3.5\nblocks = 2\n";
   write(dir / "m.toml", cfg);
-  const char* files[] = {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj"};
+  const char* files[] = {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "droplet.json", "droplet_profile.csv"};
   ASSERT_EQ(mpirun(dir, 1, "run m.toml --out r1").code, 0);
   for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {4, 1}, {2, 2}}) {
     const std::string out = fmt::format("r{}x{}", ranks, threads);
