@@ -483,7 +483,11 @@ void build_molecule(const SimulationSpec& spec, std::size_t k, MoleculeSpec& m) 
   std::size_t pos = 0;
   auto species_of = [&](const std::string& name) {
     for (std::size_t t = 0; t < spec.species.size(); ++t)
-      if (spec.species[t].name == name) return static_cast<int>(t);
+      if (spec.species[t].name == name) {
+        if (spec.species[t].frozen)
+          fail(key, show(s), fmt::format("species '{}' is frozen (a wall species); molecule beads must move", name));
+        return static_cast<int>(t);
+      }
     fail(key, show(s), fmt::format("names species '{}', which no [[species]] block defines", name));
   };
   auto number = [&]() {
@@ -803,10 +807,6 @@ void validate_walls(SimulationSpec& spec) {
   if (!spec.data_file.empty())
     fail("init.lammps_data", show(spec.data_file),
          "[[solid]] walls are built from a generated fluid; they cannot be combined with a data file yet");
-  if (!spec.molecules.empty())
-    fail("molecule", show(spec.molecules.front().name),
-         "[[molecule]] chains are placed as random walks through the whole box and would cross the [[solid]] "
-         "walls; molecules between walls are not supported yet");
   for (std::size_t b = 0; b < spec.solids.size(); ++b) {
     SolidSpec& s = spec.solids[b];
     const std::string key = fmt::format("solid[{}]", b);
