@@ -166,6 +166,45 @@ struct DumpSpec {
   std::string file;  // relative to the output directory; validate() fills trajectory.lammpstrj / .gsd
 };
 
+// [[bond_type]]: one bond law and its parameters (physics/bond_laws.hpp). Types are numbered in
+// file order from 1 (the type numbers of a LAMMPS data file's Bonds section).
+enum class BondStyleSpec { Harmonic, Fene, Wlc };
+struct BondTypeSpec {
+  std::string name;
+  BondStyleSpec style = BondStyleSpec::Harmonic;
+  double k = 0;                  // harmonic, fene: spring constant
+  double r0 = 0;                 // harmonic: rest length
+  double rmax = 0;               // fene: r_m (seed 000 Eq. 27); wlc: maximum segment length l (Eq. 26)
+  double persistence = 0;        // wlc: effective persistence length lambda_p
+};
+
+// [[angle_type]]: U = k [1 - cos(theta - theta0)] (seed 002 Eq. 32), theta between the bond vectors.
+struct AngleTypeSpec {
+  std::string name;
+  double k = 0;
+  double theta0_deg = 0;  // theta0 in degrees (0: straight)
+};
+
+// [[molecule]]: a molecule built by the config. `sequence` in the notation of seed 002 ("Amphiphilic
+// Systems"): species names with counts, e.g. "A10" (a chain of 10 A beads), "H1T4" (amphiphile H T_4),
+// "H3(T4)2" (two tails of 4 T beads, both bonded to the last head bead). Placed as random walks.
+struct MoleculeSpec {
+  std::string name;
+  std::string sequence;
+  std::vector<int> beads;                          // species index of every bead (set by validate())
+  std::vector<std::array<int, 2>> bonds;           // bead index pairs within the molecule (validate())
+  std::vector<std::array<int, 3>> angles;          // bead index triples, centre in the middle (validate())
+  std::string bond_type;                           // name of a [[bond_type]]
+  std::string angle_type;                          // name of an [[angle_type]], empty: no angles
+  int bond_type_index = -1, angle_type_index = -1;  // set by validate()
+  std::optional<double> density;                   // bead number density of this molecule kind, or
+  std::uint64_t count = 0;                         // number of molecules (validate() sets it from density)
+  double bond_length = 0.7;                        // random-walk step of the placement
+};
+
+// [bonds]: treatment of bonded pairs by the pair force (LAMMPS special_bonds with factors 0 or 1).
+enum class BondExclusion { None, OneTwo, OneThree };
+
 // One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp.
 enum class ShapeKind { Plane, Cylinder, Sphere, Box, Pillars, Image, Union, Difference };
 enum class Lattice { Square, Hexagonal };
@@ -256,6 +295,14 @@ struct SimulationSpec {
   PoiseuilleSpec poiseuille;                    // [poiseuille]
   RdfSpec rdf;                                  // [analysis.rdf]
   MsdSpec msd;                                  // [analysis.msd]
+  std::vector<BondTypeSpec> bond_types;         // [[bond_type]]
+  std::vector<AngleTypeSpec> angle_types;       // [[angle_type]]
+  std::vector<MoleculeSpec> molecules;          // [[molecule]]
+  BondExclusion bond_exclusion = BondExclusion::None;  // [bonds] exclude
+  std::optional<double> bond_reach_set;         // [bonds] reach as written
+  double bond_reach = 0;                        // longest bond or angle leg allowed; validate(): default the
+                                                // largest pair cutoff. Neighbour cells (and so ghost layers)
+                                                // are at least max(cutoff, reach) + skin wide.
   std::vector<SolidSpec> solids;                // [[solid]]
   WallsSpec walls;                              // [walls]
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]

@@ -58,6 +58,8 @@ inline constexpr unsigned kForce = 1u << 5;       // recomputed by the force sta
   X(std::int32_t, ix, field::kMigrate | field::kCheckpoint | field::kFrame)                                  \
   X(std::int32_t, iy, field::kMigrate | field::kCheckpoint | field::kFrame)                                  \
   X(std::int32_t, iz, field::kMigrate | field::kCheckpoint | field::kFrame)                                  \
+  /* molecule id (1, 2, ...; 0 for a particle in no molecule), the LAMMPS dump's `mol` column */            \
+  X(std::int32_t, mol, field::kMigrate | field::kCheckpoint | field::kFrame)                                 \
   /* solid body of a frozen wall particle: [[solid]] index + 1, 0 for a mobile particle (ghosts carry it  \
      so that the pair loop skips frozen-frozen pairs) */                                                   \
   X(std::int32_t, body, field::kMigrate | field::kGhost | field::kCheckpoint | field::kFrame)                \

@@ -10,6 +10,7 @@
 
 #include "core/box.hpp"
 #include "core/pair_sums.hpp"
+#include "core/topology.hpp"
 #include "core/particle_data.hpp"
 
 namespace mesodpd {
@@ -36,6 +37,7 @@ struct StepContext {
   const PairSums* pair_sums = nullptr;     // this step's pair sums where a stage asked for them, else null
   std::uint64_t total_particles = 0;       // over all ranks
   std::uint64_t neighbor_builds = 0;       // since step 0, across restarts
+  const Topology* topology = nullptr;      // bonds and angles by global id (empty without molecules)
 };
 
 // One action at one stage point. Forces stages run at every force evaluation (also when

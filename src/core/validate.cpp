@@ -471,10 +471,154 @@ void validate_fields(SimulationSpec& spec) {
 
 // What the engine refuses at construction on any number of ranks, checked here so that a spec that
 // validates also starts (mesodpd check then refuses what mesodpd run would).
+// Parses a molecule sequence in the notation of seed 002 ("Amphiphilic Systems"): "A10", "H2T6",
+// "H3(T4)2" (a parenthesised group repeated n times, every copy bonded to the bead before the group).
+// Fills beads (species), bonds and, with angles, every pair of bonds that share a bead.
+void build_molecule(const SimulationSpec& spec, std::size_t k, MoleculeSpec& m) {
+  const std::string key = fmt::format("molecule[{}].sequence", k);
+  const std::string& s = m.sequence;
+  m.beads.clear();
+  m.bonds.clear();
+  m.angles.clear();
+  std::size_t pos = 0;
+  auto species_of = [&](const std::string& name) {
+    for (std::size_t t = 0; t < spec.species.size(); ++t)
+      if (spec.species[t].name == name) return static_cast<int>(t);
+    fail(key, show(s), fmt::format("names species '{}', which no [[species]] block defines", name));
+  };
+  auto number = [&]() {
+    const std::size_t start = pos;
+    while (pos < s.size() && std::isdigit(static_cast<unsigned char>(s[pos]))) ++pos;
+    if (pos == start || pos - start > 6)
+      fail(key, show(s), fmt::format("expected a count (1 to 999999) at position {}", start + 1));
+    const int v = std::stoi(s.substr(start, pos - start));
+    if (v < 1) fail(key, show(s), fmt::format("a count must be at least 1 (position {})", start + 1));
+    return v;
+  };
+  auto name = [&]() {
+    const std::size_t start = pos;
+    while (pos < s.size() && (std::isalpha(static_cast<unsigned char>(s[pos])) || s[pos] == '_')) ++pos;
+    if (pos == start) fail(key, show(s), fmt::format("expected a species name at position {}", start + 1));
+    return s.substr(start, pos - start);
+  };
+  // Appends `count` beads of `sp` as a linear run bonded to `parent` (-1: none).
+  auto run = [&](int sp, int count, int parent) {
+    for (int c = 0; c < count; ++c) {
+      const int b = static_cast<int>(m.beads.size());
+      m.beads.push_back(sp);
+      if (parent >= 0) m.bonds.push_back({parent, b});
+      parent = b;
+    }
+  };
+  bool branched = false;
+  while (pos < s.size()) {
+    if (branched) fail(key, show(s), "nothing may follow a repeated (parenthesised) group");
+    const int last = static_cast<int>(m.beads.size()) - 1;
+    if (s[pos] == '(') {
+      if (last < 0) fail(key, show(s), "a repeated group needs beads before it to attach to");
+      ++pos;
+      const int sp = species_of(name());
+      const int count = number();
+      if (pos >= s.size() || s[pos] != ')') fail(key, show(s), fmt::format("expected ')' at position {}", pos + 1));
+      ++pos;
+      const int copies = number();
+      for (int c = 0; c < copies; ++c) run(sp, count, last);
+      branched = true;
+    } else {
+      const int sp = species_of(name());
+      run(sp, number(), last);
+    }
+  }
+  if (m.beads.empty()) fail(key, show(s), "is empty");
+  if (m.beads.size() > 1000000) fail(key, show(s), "more than 1,000,000 beads in one molecule");
+  if (m.angle_type_index >= 0) {
+    std::vector<std::vector<int>> nb(m.beads.size());
+    for (const auto& b : m.bonds) {
+      nb[static_cast<std::size_t>(b[0])].push_back(b[1]);
+      nb[static_cast<std::size_t>(b[1])].push_back(b[0]);
+    }
+    for (std::size_t c = 0; c < nb.size(); ++c)
+      for (std::size_t x = 0; x < nb[c].size(); ++x)
+        for (std::size_t y = x + 1; y < nb[c].size(); ++y) m.angles.push_back({nb[c][x], static_cast<int>(c), nb[c][y]});
+  }
+}
+
+void validate_topology(SimulationSpec& spec) {
+  check("bonds.reach", spec.bond_reach_set, kCutoff);
+  if (spec.bond_reach_set && *spec.bond_reach_set < largest_cutoff(spec))
+    fail("bonds.reach", show(*spec.bond_reach_set),
+         fmt::format("must be at least the largest pair cutoff {}", largest_cutoff(spec)));
+  spec.bond_reach = spec.bond_reach_set.value_or(largest_cutoff(spec));
+  const double reach = spec.bond_reach;
+  for (std::size_t k = 0; k < spec.bond_types.size(); ++k) {
+    BondTypeSpec& b = spec.bond_types[k];
+    const std::string key = fmt::format("bond_type[{}]", k);
+    if (!valid_species_name(b.name)) fail(key + ".name", show(b.name), "must be non-empty and use only letters, digits and '_'");
+    for (std::size_t prev = 0; prev < k; ++prev)
+      if (spec.bond_types[prev].name == b.name)
+        fail(key + ".name", show(b.name), fmt::format("duplicate bond type name (also bond_type[{}].name)", prev));
+    if (b.style != BondStyleSpec::Wlc) check(key + ".k", b.k, kNonNegative);
+    if (b.style == BondStyleSpec::Harmonic) {
+      check(key + ".r0", b.r0, kNonNegative);
+      if (b.r0 >= reach)
+        fail(key + ".r0", show(b.r0), fmt::format("must be shorter than bonds.reach = {} (the reach of the ghost "
+                                                  "layer that holds bonded partners)", reach));
+    } else {
+      check(key + ".rmax", b.rmax, kPositive);
+    }
+    if (b.style == BondStyleSpec::Wlc) check(key + ".persistence", b.persistence, kPositive);
+  }
+  for (std::size_t k = 0; k < spec.angle_types.size(); ++k) {
+    AngleTypeSpec& a = spec.angle_types[k];
+    const std::string key = fmt::format("angle_type[{}]", k);
+    if (!valid_species_name(a.name)) fail(key + ".name", show(a.name), "must be non-empty and use only letters, digits and '_'");
+    for (std::size_t prev = 0; prev < k; ++prev)
+      if (spec.angle_types[prev].name == a.name)
+        fail(key + ".name", show(a.name), fmt::format("duplicate angle type name (also angle_type[{}].name)", prev));
+    check(key + ".k", a.k, kNonNegative);
+    check(key + ".theta0", a.theta0_deg, Range{0.0, 180.0, true, true});
+  }
+  const double volume = spec.box[0] * spec.box[1] * spec.box[2];
+  for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
+    MoleculeSpec& m = spec.molecules[k];
+    const std::string key = fmt::format("molecule[{}]", k);
+    if (!valid_species_name(m.name)) fail(key + ".name", show(m.name), "must be non-empty and use only letters, digits and '_'");
+    m.bond_type_index = -1;
+    for (std::size_t t = 0; t < spec.bond_types.size(); ++t)
+      if (spec.bond_types[t].name == m.bond_type) m.bond_type_index = static_cast<int>(t);
+    if (m.bond_type_index < 0)
+      fail(key + ".bond_type", show(m.bond_type), "names no [[bond_type]] (a bond type without parameters)");
+    m.angle_type_index = -1;
+    if (!m.angle_type.empty()) {
+      for (std::size_t t = 0; t < spec.angle_types.size(); ++t)
+        if (spec.angle_types[t].name == m.angle_type) m.angle_type_index = static_cast<int>(t);
+      if (m.angle_type_index < 0)
+        fail(key + ".angle_type", show(m.angle_type), "names no [[angle_type]] (an angle type without parameters)");
+    }
+    build_molecule(spec, k, m);
+    const BondTypeSpec& bt = spec.bond_types[static_cast<std::size_t>(m.bond_type_index)];
+    const double limit = bt.style == BondStyleSpec::Harmonic ? reach : std::min(reach, bt.rmax);
+    check(key + ".bond_length", m.bond_length, kPositive);
+    if (m.bond_length >= limit)
+      fail(key + ".bond_length", show(m.bond_length),
+           fmt::format("must be shorter than {} (bonds.reach{})", limit,
+                       bt.style == BondStyleSpec::Harmonic ? "" : " and the bond type's rmax"));
+    check(key + ".density", m.density, kPositive);
+    if (m.density) {
+      const double n = std::round(*m.density * volume / static_cast<double>(m.beads.size()));
+      if (n > 1.0e9) fail(key + ".density", show(*m.density), "gives more than 1e9 molecules");
+      m.count = static_cast<std::uint64_t>(n);
+    }
+  }
+}
+
 void validate_engine_limits(SimulationSpec& spec) {
   // Particle ids are 32-bit (1..N, LAMMPS style).
   if (spec.data_file.empty()) {
     std::uint64_t total = 0;
+    for (const MoleculeSpec& m : spec.molecules) total += m.count * m.beads.size();
+    if (total > std::numeric_limits<std::uint32_t>::max())
+      fail("molecule", "", fmt::format("{} molecule beads exceed the 32-bit id range", total));
     for (std::size_t k = 0; k < spec.species.size(); ++k) {
       const SpeciesSpec& sp = spec.species[k];
       total += sp.count;
@@ -486,8 +630,9 @@ void validate_engine_limits(SimulationSpec& spec) {
       }
     }
   }
-  // Minimum image needs every box length to be at least twice the longest interaction range.
-  const double cutoff = largest_cutoff(spec);
+  // Minimum image needs every box length to be at least twice the longest interaction range (pair
+  // cutoff, or the reach of bonds).
+  const double cutoff = std::max(largest_cutoff(spec), spec.bond_reach);
   for (std::size_t d = 0; d < 3; ++d)
     if (spec.box[d] < 2.0 * cutoff)
       fail("system.box", fmt::format("[{}, {}, {}]", spec.box[0], spec.box[1], spec.box[2]),
@@ -657,6 +802,10 @@ void validate_walls(SimulationSpec& spec) {
   if (!spec.data_file.empty())
     fail("init.lammps_data", show(spec.data_file),
          "[[solid]] walls are built from a generated fluid; they cannot be combined with a data file yet");
+  if (!spec.molecules.empty())
+    fail("molecule", show(spec.molecules.front().name),
+         "[[molecule]] chains are placed as random walks through the whole box and would cross the [[solid]] "
+         "walls; molecules between walls are not supported yet");
   for (std::size_t b = 0; b < spec.solids.size(); ++b) {
     SolidSpec& s = spec.solids[b];
     const std::string key = fmt::format("solid[{}]", b);
@@ -754,7 +903,7 @@ using Section = void (*)(SimulationSpec&);
 constexpr Section kSections[] = {
     validate_system, validate_init,   validate_species,    validate_pairs,    validate_integrator,
     validate_run,    validate_neighbor, validate_parallel, validate_output,   validate_poiseuille,
-    validate_analysis, validate_fields, validate_walls, validate_engine_limits,
+    validate_analysis, validate_fields, validate_walls, validate_topology, validate_engine_limits,
 };
 
 }  // namespace

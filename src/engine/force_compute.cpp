@@ -144,6 +144,73 @@ struct DensityPass {
   }
 };
 
+// What the evaluation passes read besides the batch: positions, velocities and ids of every stored
+// particle, the periodic images and the noise key.
+struct BatchGeometry {
+  const double* x;
+  const double* y;
+  const double* z;
+  const double* vx;
+  const double* vy;
+  const double* vz;
+  const std::uint32_t* id;
+  double ilx, ily, ilz, hlx, hly, hlz;
+  std::uint64_t seed;
+  NoiseKind kind;
+  std::uint64_t step;
+};
+
+// Passes 1-3 over batch entries [0, m): exact geometry, the pair noise, the law or kernel with the
+// fixed-point conversion (into b.qx, .qy, .qz; sums into `local`). Shared by the pair loop and by the
+// evaluation of listed pairs (excluded bonded pairs), so both give the same bits for a pair.
+template <class Pass>
+HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, const BatchGeometry& g,
+                               std::int64_t* local) {
+  const double* __restrict x = g.x;
+  const double* __restrict y = g.y;
+  const double* __restrict z = g.z;
+  const double* __restrict vx = g.vx;
+  const double* __restrict vy = g.vy;
+  const double* __restrict vz = g.vz;
+  const std::uint32_t* __restrict id = g.id;
+  const double ilx = g.ilx, ily = g.ily, ilz = g.ilz, hlx = g.hlx, hly = g.hly, hlz = g.hlz;
+  const std::uint64_t seed = g.seed;
+  const NoiseKind kind = g.kind;
+  const std::uint64_t step = g.step;
+  // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::uint32_t j = b.j[k];
+    const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], ilx, hlx));
+    const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ily, hly));
+    const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], ilz, hlz));
+    const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    b.r[k] = r;
+    if constexpr (Pass::kDirection) {
+      const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
+      b.dx[k] = dx;
+      b.dy[k] = dy;
+      b.dz[k] = dz;
+      b.inv_r[k] = inv_r;
+      if constexpr (Pass::kVelocity)
+        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
+                   dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
+                  inv_r;
+    }
+  }
+  // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
+  if constexpr (Pass::kNoise) {
+    if (kind == NoiseKind::Uniform) {
+      for (std::size_t k = 0; k < m; ++k)
+        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
+    } else {
+      for (std::size_t k = 0; k < m; ++k)
+        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
+    }
+  }
+  // Pass 3: the law or kernel and the fixed-point conversion.
+  pass.evaluate(b, m, local);
+}
+
 // The shared loop: traverses every pair within the largest cutoff once (cell pairs or a half Verlet
 // list), evaluates `pass` on batches, and leaves the per-particle integer totals (summed over threads)
 // in job.out / p.f (no ghosts) or job.ws->fixed (with ghosts; the caller returns ghost totals first).
@@ -204,42 +271,12 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
     const double* __restrict vy = p.vy.data();
     const double* __restrict vz = p.vz.data();
     const std::uint32_t* __restrict id = p.id.data();
+    const BatchGeometry geo{x, y, z, vx, vy, vz, id, ilx, ily, ilz, hlx, hly, hlz, seed, kind, step};
 
     // Evaluate and scatter every pair in the batch. Each pass is a simple loop over arrays.
     auto flush = [&] {
       const std::size_t m = b.m;
-      // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
-      for (std::size_t k = 0; k < m; ++k) {
-        const std::uint32_t j = b.j[k];
-        const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], ilx, hlx));
-        const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ily, hly));
-        const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], ilz, hlz));
-        const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
-        b.r[k] = r;
-        if constexpr (Pass::kDirection) {
-          const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
-          b.dx[k] = dx;
-          b.dy[k] = dy;
-          b.dz[k] = dz;
-          b.inv_r[k] = inv_r;
-          if constexpr (Pass::kVelocity)
-            b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
-                       dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
-                      inv_r;
-        }
-      }
-      // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
-      if constexpr (Pass::kNoise) {
-        if (kind == NoiseKind::Uniform) {
-          for (std::size_t k = 0; k < m; ++k)
-            b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
-        } else {
-          for (std::size_t k = 0; k < m; ++k)
-            b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
-        }
-      }
-      // Pass 3: the law or kernel and the fixed-point conversion.
-      pass.evaluate(b, m, local);
+      evaluate_batch(b, m, pass, geo, local);
       // Pass 4: scatter (integer adds: the order does not matter).
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t i = b.i[k], j = b.j[k];
@@ -478,6 +515,50 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   }
 }
 
+// Listed pairs (job.pairs): the same passes as the loop's on a batch filled from the list, with the
+// results subtracted. Serial; the lists are short (bonded pairs).
+template <class Pass, bool kSums>
+void run_listed(PairJob& job, const Pass& pass) {
+  const ParticleData& p = *job.p;
+  const Box& box = *job.box;
+  PairWorkspace& ws = *job.ws;
+  if (ws.batches.empty()) ws.batches.push_back(std::make_unique<PairBatch>());
+  PairBatch& b = *ws.batches[0];
+  const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
+                          p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
+                          box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
+                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step};
+  std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::int64_t* f = job.subtract_into;
+  for (std::size_t k0 = 0; k0 < job.n_pairs; k0 += PairBatch::kCapacity) {
+    const std::size_t m = std::min(PairBatch::kCapacity, job.n_pairs - k0);
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::uint32_t i = job.pairs[2 * (k0 + k)], j = job.pairs[2 * (k0 + k) + 1];
+      b.i[k] = i;
+      b.j[k] = j;
+      b.ix[k] = p.x[i];
+      b.iy[k] = p.y[i];
+      b.iz[k] = p.z[i];
+      b.ivx[k] = p.vx[i];
+      b.ivy[k] = p.vy[i];
+      b.ivz[k] = p.vz[i];
+      b.iid[k] = p.id[i];
+    }
+    evaluate_batch(b, m, pass, geo, local);
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = b.i[k], j = b.j[k];
+      f[3 * i] -= b.qx[k];
+      f[3 * i + 1] -= b.qy[k];
+      f[3 * i + 2] -= b.qz[k];
+      f[3 * j] += b.qx[k];
+      f[3 * j + 1] += b.qy[k];
+      f[3 * j + 2] += b.qz[k];
+    }
+  }
+  if constexpr (kSums)
+    for (int q = 0; q < 9; ++q) job.totals[q] -= local[q];
+}
+
 template <class Pass>
 void run_pass(PairJob& job, const Pass& pass, double cutoff) {
   if (job.with_sums)
@@ -510,7 +591,10 @@ void run_pair_job(PairJob& job) {
               pass.inv_sqrt_dt = static_cast<PairReal>(1.0 / std::sqrt(job.dt));
               pass.species = job.p->species.data();
               pass.rho = job.rho;
-              run_loop<decltype(pass), kSums>(job, pass, lt.table.max_cutoff);
+              if (job.pairs != nullptr)
+                run_listed<decltype(pass), kSums>(job, pass);
+              else
+                run_loop<decltype(pass), kSums>(job, pass, lt.table.max_cutoff);
             };
             if (job.with_sums)
               run.template operator()<true>();
@@ -622,6 +706,29 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
     sums.potential_energy = static_cast<double>(job.totals[7]) * kVirialUnscale;
     sums.pairs_in_range = static_cast<std::uint64_t>(job.totals[8]);
   }
+}
+
+void ForceCompute::subtract_pairs(ParticleData& p, const Box& box, std::span<const std::uint32_t> pairs,
+                                  std::uint64_t step, double dt, bool with_sums, std::int64_t* fixed,
+                                  std::int64_t* totals, const double* density) {
+  if (pairs.empty()) return;
+  apply_simd_cap();
+  PairJob job;
+  job.p = &p;
+  job.box = &box;
+  job.laws = &laws_;
+  job.rho = density;
+  job.step = step;
+  job.dt = dt;
+  job.noise = noise_;
+  job.with_sums = with_sums;
+  job.ws = ws_.get();
+  job.pairs = pairs.data();
+  job.n_pairs = pairs.size() / 2;
+  job.subtract_into = fixed;
+  HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
+  if (with_sums)
+    for (int q = 0; q < 9; ++q) totals[q] += job.totals[q];
 }
 
 void ForceCompute::compute_density(ParticleData& p, const Box& box, const NeighborList& list,

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,15 @@ class ForceCompute {
   // (2^32 units): bit-identical for any thread and rank count. `rho` is resized to p.size().
   void compute_density(ParticleData& p, const Box& box, const NeighborList& list, const DensitySettings& density,
                        std::vector<double>& rho, Halo* halo = nullptr);
+
+  // For listed pairs (storage indices i, j of pair k at pairs[2k], pairs[2k + 1], as compute() saw
+  // them at `step`), subtracts from `fixed` (3 integers per stored particle) exactly the integers
+  // compute() added for them, computed by the same passes, and with `with_sums` adds the negated
+  // virial, energy and pair count to `totals` ([0..5] virial, [6] its conservative trace, [7] energy,
+  // [8] pairs). Used to exclude bonded pairs from the pair force (bonds.exclude). Serial.
+  void subtract_pairs(ParticleData& p, const Box& box, std::span<const std::uint32_t> pairs, std::uint64_t step,
+                      double dt, bool with_sums, std::int64_t* fixed, std::int64_t* totals,
+                      const double* density = nullptr);
 
   const PairLawTables& laws() const { return laws_; }
   double max_cutoff() const { return mesodpd::max_cutoff(laws_); }

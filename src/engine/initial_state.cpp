@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "boundary/geometry.hpp"
 #include "core/philox.hpp"
@@ -22,10 +24,26 @@ Philox4x32 particle_bits(std::uint64_t seed, RngStream stream, std::uint32_t id,
   return philox4x32_10(ctr, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
 }
 
-// Returns whether the file had a Velocities section.
-bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
+// Returns whether the file had a Velocities section. With `topology`, also its bonds and angles.
+bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topology* topology) {
   const LammpsData data = read_lammps_data(spec.data_file);
   const int ns = static_cast<int>(spec.species.size());
+  // Every bond and angle type of the file needs its parameters in the config ([[bond_type]] k is type k).
+  if (!data.bonds.empty() && data.n_bond_types > static_cast<int>(spec.bond_types.size()))
+    throw ConfigError(fmt::format("bond_type: the data file {} has {} bond types but the config defines {} "
+                                  "[[bond_type]] blocks (type k takes the k-th block's parameters)",
+                                  spec.data_file, data.n_bond_types, spec.bond_types.size()));
+  if (!data.angles.empty() && data.n_angle_types > static_cast<int>(spec.angle_types.size()))
+    throw ConfigError(fmt::format("angle_type: the data file {} has {} angle types but the config defines {} "
+                                  "[[angle_type]] blocks (type k takes the k-th block's parameters)",
+                                  spec.data_file, data.n_angle_types, spec.angle_types.size()));
+  if (topology != nullptr) {
+    topology->bonds.clear();
+    topology->angles.clear();
+    for (const LammpsBonded& b : data.bonds) topology->bonds.push_back({b.atoms[0], b.atoms[1], b.type - 1});
+    for (const LammpsBonded& a : data.angles)
+      topology->angles.push_back({a.atoms[0], a.atoms[1], a.atoms[2], a.type - 1});
+  }
   if (data.n_types > ns)
     throw ConfigError(fmt::format("{}: the data file has {} atom types but the config defines {} species",
                                   spec.data_file, data.n_types, ns));
@@ -55,6 +73,7 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
     p.ix[i] = a.ix;
     p.iy[i] = a.iy;
     p.iz[i] = a.iz;
+    p.mol[i] = a.mol;
     double* r[3] = {&p.x[i], &p.y[i], &p.z[i]};
     std::int32_t* image[3] = {&p.ix[i], &p.iy[i], &p.iz[i]};
     for (int d = 0; d < 3; ++d) {
@@ -72,6 +91,70 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p) {
     }
   }
   return data.has_velocities;
+}
+
+// One particle of a generated system, as the builder visits them in id order.
+struct NewParticle {
+  std::uint32_t id = 0;
+  std::int32_t species = 0;
+  std::int32_t mol = 0;
+  std::int32_t body = 0;  // [[solid]] index + 1 of a frozen wall particle
+  std::array<double, 3> r{};
+  std::array<std::int32_t, 3> image{};
+};
+
+// Unwrapped bead positions of molecule number `mol` (1-based, all kinds together) of kind k: a random
+// walk with steps of bond_length in uniformly random directions, each bead placed from the bead it is
+// bonded to, the first uniformly in the box. A pure function of (seed, mol). On a bounded axis a step
+// that would leave the box is drawn again (up to 1000 times, then the molecule cannot be placed).
+void random_walk(const SimulationSpec& spec, const Box& box, std::size_t k, std::uint64_t mol,
+                 std::vector<std::array<double, 3>>& walk) {
+  const MoleculeSpec& m = spec.molecules[k];
+  walk.assign(m.beads.size(), {0, 0, 0});
+  const auto key = static_cast<std::uint32_t>(mol);
+  const Philox4x32 first = particle_bits(spec.seed, RngStream::InitMolecule, key, 0);
+  for (int d = 0; d < 3; ++d)
+    walk[0][static_cast<std::size_t>(d)] = (static_cast<double>(first.v[d]) / 4294967296.0) * box.length(d);
+  std::uint32_t draw = 1;
+  for (const auto& bond : m.bonds) {
+    const auto from = static_cast<std::size_t>(bond[0]), to = static_cast<std::size_t>(bond[1]);
+    for (int attempt = 0;; ++attempt) {
+      if (attempt == 1000)
+        throw ConfigError(fmt::format("molecule[{}]: molecule {} cannot be placed: its random walk keeps leaving the "
+                                      "box across a bounded axis (system.periodic); use a larger box or a shorter "
+                                      "molecule[{}].bond_length", k, mol, k));
+      const Philox4x32 b = particle_bits(spec.seed, RngStream::InitMolecule, key, draw++);
+      const double cz = 2.0 * u01_open(b.v[0]) - 1.0;
+      const double phi = 6.283185307179586 * u01_open(b.v[1]);
+      const double sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));
+      const double dir[3] = {sz * std::cos(phi), sz * std::sin(phi), cz};
+      bool inside = true;
+      for (int d = 0; d < 3; ++d) {
+        const auto du = static_cast<std::size_t>(d);
+        walk[to][du] = walk[from][du] + m.bond_length * dir[d];
+        if (!box.periodic[du] && !(walk[to][du] >= 0.0 && walk[to][du] < box.length(d))) inside = false;
+      }
+      if (inside) break;
+    }
+  }
+}
+
+// The bonds and angles of the generated molecules, by global id (molecule beads are ids 1 .. M).
+Topology molecule_topology(const SimulationSpec& spec) {
+  Topology t;
+  std::uint32_t first = 1;
+  for (const MoleculeSpec& m : spec.molecules) {
+    for (std::uint64_t c = 0; c < m.count; ++c) {
+      for (const auto& b : m.bonds)
+        t.bonds.push_back({first + static_cast<std::uint32_t>(b[0]), first + static_cast<std::uint32_t>(b[1]),
+                           m.bond_type_index});
+      for (const auto& a : m.angles)
+        t.angles.push_back({first + static_cast<std::uint32_t>(a[0]), first + static_cast<std::uint32_t>(a[1]),
+                            first + static_cast<std::uint32_t>(a[2]), m.angle_type_index});
+      first += static_cast<std::uint32_t>(m.beads.size());
+    }
+  }
+  return t;
 }
 
 void zero_velocities(ParticleData& p) {
@@ -145,9 +228,10 @@ void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, Partic
 
 }  // namespace
 
-std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep) {
+std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep,
+                                 Topology* topology) {
   if (!spec.data_file.empty()) {
-    const bool has_velocities = load_data_file(spec, box, p);
+    const bool has_velocities = load_data_file(spec, box, p, topology);
     if (spec.velocities == VelocityInit::File && !has_velocities)
       throw ConfigError(fmt::format("init.velocities: \"file\" (the default with init.lammps_data) but {} has no "
                                     "Velocities section; set init.velocities = \"maxwell\" or \"zero\"",
@@ -163,8 +247,6 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
     total += s.count;
     if (s.placement == Placement::Lattice) lattice_total += s.count;
   }
-  if (total > std::numeric_limits<std::uint32_t>::max())
-    throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", total));
 
   // Lattice species share one simple-cubic-like grid with at least lattice_total sites, spaced to fill
   // the box; sites are filled in order, species after species.
@@ -175,14 +257,39 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
     for (int d = 0; d < 3; ++d) grid[static_cast<std::size_t>(d)] = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(len[d] / spacing - 1e-9)));
     while (grid[0] * grid[1] * grid[2] < lattice_total) ++grid[0];
   }
-  // Solids: the fluid inside them is frozen near their surface and left out deeper in.
+  // Molecules first (ids 1 .. M, molecule after molecule), then the free particles of each species.
+  // Solids: the fluid inside them is frozen near their surface and left out deeper in (validate()
+  // refuses molecules together with solids, so no bead is ever placed inside one).
   std::optional<Geometry> geometry;
   if (!spec.solids.empty()) geometry.emplace(spec.solids, box);
-  // Visits every particle in id order with (id, species, body, x, y, z); positions are functions of
-  // the draw number (the id when there are no solids) or of the lattice site.
+  // Visits every particle in id order; positions are functions of the draw number (the id when there
+  // are no solids), of the lattice site, or of the molecule's random walk.
   auto for_each_particle = [&](auto&& f) {
+    NewParticle q;
     std::uint64_t i = 0, site = 0;
     std::uint32_t next_id = 1;  // LAMMPS-style ids start at 1
+    std::uint64_t mol = 0;
+    std::vector<std::array<double, 3>> walk;
+    for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
+      const MoleculeSpec& m = spec.molecules[k];
+      for (std::uint64_t c = 0; c < m.count; ++c) {
+        ++mol;
+        random_walk(spec, box, k, mol, walk);
+        for (std::size_t b = 0; b < m.beads.size(); ++b, ++i) {
+          q.id = next_id++;
+          q.species = m.beads[b];
+          q.mol = static_cast<std::int32_t>(mol);
+          q.r = walk[b];
+          q.image = {0, 0, 0};
+          for (int d = 0; d < 3; ++d)
+            if (box.periodic[static_cast<std::size_t>(d)])
+              wrap_coordinate(q.r[static_cast<std::size_t>(d)], q.image[static_cast<std::size_t>(d)], box.length(d));
+          f(q);
+        }
+      }
+    }
+    q.mol = 0;
+    q.image = {0, 0, 0};
     for (std::size_t s = 0; s < spec.species.size(); ++s) {
       for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
         const auto id = static_cast<std::uint32_t>(i + 1);  // the draw number
@@ -199,27 +306,29 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
           y = (static_cast<double>(b.v[1]) / 4294967296.0) * box.len.y;
           z = (static_cast<double>(b.v[2]) / 4294967296.0) * box.len.z;
         }
-        auto species = static_cast<std::int32_t>(s);
-        std::int32_t body = 0;
+        q.species = static_cast<std::int32_t>(s);
+        q.body = 0;
         if (geometry && !spec.species[s].frozen) {
           int b = -1;
           const double d = geometry->sdf(Vec3{x, y, z}, b);
           if (d < 0) {
             if (d < -spec.walls.depth) continue;  // deep inside: no fluid ever comes near it
-            species = spec.solids[static_cast<std::size_t>(b)].species_index;
-            body = b + 1;
+            q.species = spec.solids[static_cast<std::size_t>(b)].species_index;
+            q.body = b + 1;
           }
         }
-        f(next_id++, species, body, x, y, z);
+        q.id = next_id++;
+        q.r = {x, y, z};
+        f(q);
       }
     }
   };
   std::size_t kept = 0;
   std::uint64_t system_total = 0, mobile_total = 0;
-  for_each_particle([&](std::uint32_t, std::int32_t, std::int32_t body, double x, double y, double z) {
+  for_each_particle([&](const NewParticle& q) {
     ++system_total;
-    mobile_total += body == 0 ? 1 : 0;
-    kept += !keep || keep(x, y, z) ? 1 : 0;
+    mobile_total += q.body == 0 ? 1 : 0;
+    kept += !keep || keep(q.r[0], q.r[1], q.r[2]) ? 1 : 0;
   });
   if (system_total > std::numeric_limits<std::uint32_t>::max())
     throw ConfigError(fmt::format("species: {} particles exceed the 32-bit id range", system_total));
@@ -227,16 +336,21 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
   p.n_local = kept;
   p.n_ghost = 0;
   std::size_t i = 0;
-  for_each_particle([&](std::uint32_t id, std::int32_t s, std::int32_t body, double x, double y, double z) {
-    if (keep && !keep(x, y, z)) return;
-    p.id[i] = id;
-    p.species[i] = s;
-    p.body[i] = body;
-    p.x[i] = x;
-    p.y[i] = y;
-    p.z[i] = z;
+  for_each_particle([&](const NewParticle& q) {
+    if (keep && !keep(q.r[0], q.r[1], q.r[2])) return;
+    p.id[i] = q.id;
+    p.species[i] = q.species;
+    p.body[i] = q.body;
+    p.x[i] = q.r[0];
+    p.y[i] = q.r[1];
+    p.z[i] = q.r[2];
+    p.ix[i] = q.image[0];
+    p.iy[i] = q.image[1];
+    p.iz[i] = q.image[2];
+    p.mol[i] = q.mol;
     ++i;
   });
+  if (topology != nullptr) *topology = molecule_topology(spec);
   if (spec.velocities == VelocityInit::Zero) {
     zero_velocities(p);
     return system_total;
@@ -245,8 +359,8 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
   // system in id order, so a rank that keeps only its own particles gets the same bits as one rank.
   // Frozen particles take their solid's velocity instead and are left out of the sums.
   const MaxwellShift shift = maxwell_shift(spec, mobile_total, [&](auto&& f) {
-    for_each_particle([&](std::uint32_t id, std::int32_t s, std::int32_t body, double, double, double) {
-      if (body == 0) f(id, s);
+    for_each_particle([&](const NewParticle& q) {
+      if (q.body == 0) f(q.id, q.species);
     });
   });
   apply_maxwell(spec, shift, p);
@@ -257,6 +371,7 @@ std::uint64_t check_initial_state(const SimulationSpec& spec) {
   if (spec.data_file.empty() && spec.solids.empty()) {
     std::uint64_t n = 0;
     for (const auto& s : spec.species) n += s.count;
+    for (const auto& m : spec.molecules) n += m.count * m.beads.size();
     return n;
   }
   Box box;

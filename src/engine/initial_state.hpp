@@ -5,6 +5,7 @@
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
+#include "core/topology.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
@@ -21,7 +22,10 @@ using KeepPredicate = std::function<bool(double x, double y, double z)>;
 // they lie within walls.depth of its surface and are left out otherwise; ids stay consecutive (seed 000
 // Sect. 3.2.2, without the equilibration before freezing). Returns the particle count of the whole
 // system.
-std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {});
+// With `topology`, also returns the bonds and angles (by global id) of the generated molecules or of
+// the data file.
+std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {},
+                                 Topology* topology = nullptr);
 
 // The pre-flight check of an initial state, shared by `mesodpd check` and the public API: with
 // init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state

@@ -63,6 +63,12 @@ struct PairJob {
   PairWorkspace* ws = nullptr;
   // Integer sums of this rank: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
   std::int64_t totals[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  // Listed pairs instead of the traversal (ForceCompute::subtract_pairs): storage indices i, j of pair k at
+  // pairs[2k], pairs[2k + 1]; their forces are subtracted from `subtract_into` (3 per particle) and
+  // their sums from `totals`.
+  const std::uint32_t* pairs = nullptr;
+  std::size_t n_pairs = 0;
+  std::int64_t* subtract_into = nullptr;
 };
 
 }  // namespace mesodpd

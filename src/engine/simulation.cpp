@@ -32,7 +32,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
               NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
   density_ = make_density_settings(spec_);
-  nlist_ = NeighborList(NeighborSettings{forces_.max_cutoff(),
+  // Cells (and so ghost layers) also reach as far as the longest bond allowed (bonds.reach).
+  nlist_ = NeighborList(NeighborSettings{std::max(forces_.max_cutoff(), spec_.bond_reach),
                                          spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
   if (spec_.integrator == IntegratorKind::GrootWarren)
     integrator_ = GrootWarrenIntegrator{spec_.lambda};
@@ -66,14 +67,20 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     check_box();
     decompose();
     const CellGrid global(box_, range);
+    Topology topology;
     n_total_ = make_initial_state(spec_, box_, p_,
-                                  [&](double x, double y, double z) { return halo_.owns(x, y, z, global); });
+                                  [&](double x, double y, double z) { return halo_.owns(x, y, z, global); },
+                                  &topology);
+    make_bonded(std::move(topology));
   } else {
     // A checkpoint or data file is read whole on every rank, which then keeps its own particles.
-    if (restarted)
+    if (restarted) {
       load_checkpoint(options_.restart);
-    else
-      make_initial_state(spec_, box_, p_);
+    } else {
+      Topology topology;
+      make_initial_state(spec_, box_, p_, {}, &topology);
+      make_bonded(std::move(topology));
+    }
     n_total_ = p_.n_local;
     check_box();
     decompose();
@@ -147,7 +154,8 @@ StepContext Simulation::context() {
                      .species_mass = mass_,
                      .pair_sums = sums_valid_ ? &sums_ : nullptr,
                      .total_particles = n_total_,
-                     .neighbor_builds = neighbor_builds()};
+                     .neighbor_builds = neighbor_builds(),
+                     .topology = &bonds_.topology()};
 }
 
 void Simulation::run_stages(StagePoint at) {
@@ -156,10 +164,77 @@ void Simulation::run_stages(StagePoint at) {
   stages_.run(at, ctx);
 }
 
+void Simulation::make_bonded(Topology topology) {
+  if (topology.empty()) return;
+  std::vector<BondParams> bt;
+  for (const BondTypeSpec& b : spec_.bond_types) {
+    BondParams q;
+    q.style = b.style == BondStyleSpec::Harmonic ? BondStyle::Harmonic
+                                                 : (b.style == BondStyleSpec::Fene ? BondStyle::Fene : BondStyle::Wlc);
+    q.k = b.style == BondStyleSpec::Wlc ? spec_.kT / (4.0 * b.persistence) : b.k;  // seed 000 Eq. 26
+    q.r0 = b.r0;
+    q.rmax = b.rmax;
+    bt.push_back(q);
+  }
+  std::vector<AngleParams> at;
+  for (const AngleTypeSpec& a : spec_.angle_types) at.push_back(make_angle_params(a.k, a.theta0_deg * M_PI / 180.0));
+  std::uint32_t max_id = 0;
+  for (const Bond& b : topology.bonds) {
+    max_id = std::max({max_id, b.a, b.b});
+    if (b.type < 0 || static_cast<std::size_t>(b.type) >= bt.size())
+      throw ConfigError(fmt::format("bond {}-{} has type {}, but the config defines {} [[bond_type]] blocks (a bond "
+                                    "type without parameters)", b.a, b.b, b.type + 1, bt.size()));
+  }
+  for (const Angle& a : topology.angles) {
+    max_id = std::max({max_id, a.a, a.b, a.c});
+    if (a.type < 0 || static_cast<std::size_t>(a.type) >= at.size())
+      throw ConfigError(fmt::format("angle {}-{}-{} has type {}, but the config defines {} [[angle_type]] blocks (an "
+                                    "angle type without parameters)", a.a, a.b, a.c, a.type + 1, at.size()));
+  }
+  bonds_ = BondedForces(std::move(topology), std::move(bt), std::move(at),
+                        std::max(spec_.bond_reach, forces_.max_cutoff()), max_id, spec_.bond_exclusion);
+}
+
+void Simulation::add_bonded_forces(bool with_sums) {
+  // Excluded bonded pairs (bonds.exclude): the pair loop's own passes recompute their pair force, which
+  // is subtracted in integers, so the shared loop needs no per-pair test.
+  const PairSubtractor subtract = [&](std::span<const std::uint32_t> pairs, std::int64_t* fixed, std::int64_t* totals) {
+    forces_.subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals);
+  };
+  const double t0 = omp_get_wtime();
+  const std::optional<BondProblem> problem = bonds_.compute(p_, box_, halo_, with_sums, sums_, subtract);
+  bonded_seconds_ += omp_get_wtime() - t0;
+  if (!problem) return;
+  const Topology& t = bonds_.topology();
+  if (problem->kind == BondProblem::AngleTooLong) {
+    const Angle& a = t.angles[problem->index];
+    throw BlowUpError(step_, a.b,
+                      fmt::format("angle {} (particle ids {}, {}, {}) at step {}: a partner of the centre lies beyond "
+                                  "the ghost layer of its rank (which reaches at least bonds.reach = {}); raise "
+                                  "bonds.reach (wider neighbour cells) or use stiffer bonds",
+                                  problem->index + 1, a.a, a.b, a.c, step_, bonds_.reach()));
+  }
+  const Bond& b = t.bonds[problem->index];
+  if (problem->kind == BondProblem::Broken) {
+    const BondParams& q = bonds_.bond_types()[static_cast<std::size_t>(b.type)];
+    throw BlowUpError(step_, std::min(b.a, b.b),
+                      fmt::format("bond {} (particle ids {} and {}, type {}) is stretched to {} at step {}, at or past "
+                                  "its maximum length rmax = {} ({}); reduce integrator.dt or check the forces",
+                                  problem->index + 1, b.a, b.b, b.type + 1, problem->length, step_, q.rmax,
+                                  q.style == BondStyle::Fene ? "FENE" : "worm-like chain"));
+  }
+  throw BlowUpError(step_, std::min(b.a, b.b),
+                    fmt::format("bond {} (particle ids {} and {}) at step {}: the partner lies beyond the ghost layer "
+                                "of the rank that evaluates the bond (which reaches at least bonds.reach = {}); raise "
+                                "bonds.reach (wider neighbour cells) or use stiffer bonds",
+                                problem->index + 1, b.a, b.b, step_, bonds_.reach()));
+}
+
 void Simulation::compute_forces(bool with_sums) {
   // A many-body law first needs every particle's local density (ghosts included), then the force pass.
   const double* rho = compute_density();
   forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
+  add_bonded_forces(with_sums);
   sums_valid_ = with_sums;
   // External fields, walls, bonds: each adds to the pair forces, in registration order.
   run_stages(StagePoint::Forces);
@@ -308,6 +383,7 @@ ThermoState Simulation::thermo() {
     thermo_forces_[2] = p_.fz;
     const double* rho = compute_density();  // positions unchanged: the same densities as the step's
     forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
+    add_bonded_forces(true);
     thermo_forces_[0].swap(p_.fx);
     thermo_forces_[1].swap(p_.fy);
     thermo_forces_[2].swap(p_.fz);
@@ -323,14 +399,22 @@ ThermoState Simulation::thermo() {
 }
 
 std::string Simulation::run() {
+  const double t0 = omp_get_wtime();
+  const double bonded0 = bonded_seconds_;
   while (step_ < final_step_) step();
+  run_wall_seconds_ = omp_get_wtime() - t0;
+  run_bonded_seconds_ = bonded_seconds_ - bonded0;
   return finish();
 }
 
 std::string Simulation::finish() {
   std::string summary;
+  if (!bonds_.empty() && halo_.comm().root() && run_wall_seconds_ > 0)
+    summary += fmt::format("bonded forces: {} bonds, {} angles, {:.3g} s of {:.3g} s ({:.1f}% of the steps)\n",
+                           bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
+                           run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
-  if (observers_) summary = observers_->finish(context());
+  if (observers_) summary += observers_->finish(context());
   if (walls_) {
     const std::string w = walls_->finish(halo_.comm(), options_.out_dir);
     if (halo_.comm().root()) summary += w;
@@ -356,7 +440,7 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
       observers_->save(w);
       observer_state = w.take();
     }
-    write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr);
+    write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr, &bonds_.topology());
   });
 }
 
@@ -379,6 +463,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   neighbor_builds_before_ = h.neighbor_builds;
   box_.len = {h.box[0], h.box[1], h.box[2]};
   p_ = std::move(c.particles);
+  make_bonded(std::move(c.topology));
   // Observer state is applied once the observers exist (end of the constructor).
   if (c.observer_state) pending_observer_state_ = std::move(*c.observer_state);
   const std::size_t n = p_.n_local;

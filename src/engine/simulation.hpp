@@ -17,6 +17,7 @@
 #include "analysis/thermo.hpp"
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
+#include "engine/bonded_forces.hpp"
 #include "engine/force_compute.hpp"
 #include "integrate/integrator.hpp"
 #include "mesodpd/spec.hpp"
@@ -70,7 +71,8 @@ class Simulation {
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),
-  // [AfterSecondHalf], health check, [EndOfStep]; [X] runs the stages registered at point X.
+  // [AfterSecondHalf], health check, [EndOfStep]; [X] runs the stages registered at point X. The
+  // force evaluation is the pair forces, then the bonded forces, then the [Forces] stages.
   void step();
 
   // Registers a stage after those already at `at` (the constructor registers the external fields at
@@ -100,6 +102,9 @@ class Simulation {
   const Walls* walls() const { return walls_.get(); }
   Walls* walls() { return walls_.get(); }
   const NeighborList& neighbor_list() const { return nlist_; }
+  // Bonds and angles (by global id) and their force evaluation; empty without molecules.
+  const BondedForces& bonded() const { return bonds_; }
+  const Topology& topology() const { return bonds_.topology(); }
   // Neighbour-list builds since step 0, including those before a restart.
   std::uint64_t neighbor_builds() const { return neighbor_builds_before_ + nlist_.builds(); }
   // Thermodynamic state at the current step. Where the step computed no pair sums (no thermo row due),
@@ -111,7 +116,10 @@ class Simulation {
   void write_checkpoint(const std::filesystem::path& file) const;
 
  private:
-  void compute_forces(bool with_sums);  // local densities (if the law needs them), pair forces, Forces stages
+  void compute_forces(bool with_sums);  // local densities (if the law needs them), pair forces, bonded
+                                        // forces, then the Forces stages
+  void add_bonded_forces(bool with_sums);  // throws BlowUpError for a broken or over-long bond
+  void make_bonded(Topology topology);
   // The density pass of a many-body law (nullptr when the law needs none); stops the run when a local
   // density exceeds run.max_density.
   const double* compute_density();
@@ -130,6 +138,7 @@ class Simulation {
   NeighborList nlist_;
   Halo halo_;
   ForceCompute forces_;
+  BondedForces bonds_;
   IntegratorVariant integrator_;
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
@@ -142,6 +151,8 @@ class Simulation {
   PairSums sums_;
   std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;
+  double bonded_seconds_ = 0;  // wall time in BondedForces::compute (run summary)
+  double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
   StageList stages_;                 // owns the stages, the observers among them
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
   std::shared_ptr<Walls> walls_;     // shared with its two stages

@@ -399,7 +399,9 @@ void read_species(const Section& top, SimulationSpec& spec) {
     } else {
       if (sp.density && count)
         s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
-      if (!sp.density && !count) s.missing("density", fmt::format(" (or {})", s.name("count")));
+      // A species used only in [[molecule]]s may leave both out (count 0).
+      if (!sp.density && !count && !top.has("molecule"))
+        s.missing("density", fmt::format(" (or {})", s.name("count")));
       if (count) sp.count = static_cast<std::uint64_t>(*count);
     }
     sp.placement =
@@ -432,6 +434,91 @@ void read_pair(const Section& top, SimulationSpec& spec) {
     ov.params = read_pair_params(o);
     sec.overrides.push_back(std::move(ov));
   }
+}
+
+// [[bond_type]], [[angle_type]], [[molecule]] and [bonds]: bonded interactions and the molecule builder.
+void read_topology(const Section& top, SimulationSpec& spec) {
+  for (const Section& s : top.tables("bond_type", {"name", "style", "k", "r0", "rmax", "persistence"})) {
+    BondTypeSpec b;
+    const auto name = s.string("name");
+    if (!name) s.missing("name");
+    b.name = *name;
+    const auto style = s.choice<BondStyleSpec>(
+        "style", {{"harmonic", BondStyleSpec::Harmonic}, {"fene", BondStyleSpec::Fene}, {"wlc", BondStyleSpec::Wlc}});
+    if (!style) s.missing("style", " (\"harmonic\", \"fene\" or \"wlc\")");
+    b.style = *style;
+    // Each style reads its own keys; a key another style reads is refused rather than ignored.
+    auto need = [&](std::string_view key, double& out) {
+      const auto v = s.real(key);
+      if (!v) s.missing(key, fmt::format(" (style \"{}\" needs it)", s.string("style").value_or("")));
+      out = *v;
+    };
+    auto refuse = [&](std::string_view key) {
+      if (s.has(key)) s.bad(key, fmt::format("not used by style \"{}\"", s.string("style").value_or("")));
+    };
+    switch (b.style) {
+      case BondStyleSpec::Harmonic:
+        need("k", b.k);
+        read_real(s, "r0", b.r0);
+        refuse("rmax");
+        refuse("persistence");
+        break;
+      case BondStyleSpec::Fene:
+        need("k", b.k);
+        need("rmax", b.rmax);
+        refuse("r0");
+        refuse("persistence");
+        break;
+      case BondStyleSpec::Wlc:
+        need("persistence", b.persistence);
+        need("rmax", b.rmax);
+        refuse("k");
+        refuse("r0");
+        break;
+    }
+    spec.bond_types.push_back(std::move(b));
+  }
+  for (const Section& s : top.tables("angle_type", {"name", "style", "k", "theta0"})) {
+    AngleTypeSpec a;
+    const auto name = s.string("name");
+    if (!name) s.missing("name");
+    a.name = *name;
+    s.choice<int>("style", {{"cosine", 0}});
+    const auto k = s.real("k");
+    if (!k) s.missing("k");
+    a.k = *k;
+    read_real(s, "theta0", a.theta0_deg);
+    spec.angle_types.push_back(std::move(a));
+  }
+  for (const Section& s : top.tables("molecule", {"name", "sequence", "bond_type", "angle_type", "count", "density",
+                                                  "bond_length"})) {
+    MoleculeSpec m;
+    const auto name = s.string("name");
+    if (!name) s.missing("name");
+    m.name = *name;
+    const auto seq = s.string("sequence");
+    if (!seq) s.missing("sequence", " (e.g. \"A10\", \"H1T4\" or \"H3(T4)2\")");
+    m.sequence = *seq;
+    const auto bt = s.string("bond_type");
+    if (!bt) s.missing("bond_type");
+    m.bond_type = *bt;
+    m.angle_type = s.string("angle_type").value_or("");
+    m.density = s.real("density");
+    const auto count = optional_int(s, "count", 0);
+    if (m.density && count) s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
+    if (!m.density && !count) s.missing("count", fmt::format(" (or {})", s.name("density")));
+    if (count) m.count = static_cast<std::uint64_t>(*count);
+    read_real(s, "bond_length", m.bond_length);
+    if (!spec.data_file.empty())
+      s.bad("sequence", "not allowed with init.lammps_data (molecules come from the data file's Bonds section)");
+    spec.molecules.push_back(std::move(m));
+  }
+  const Section bonds = top.table_or_empty("bonds", {"exclude", "reach"});
+  spec.bond_reach_set = bonds.real("reach");
+  spec.bond_exclusion = bonds.choice<BondExclusion>("exclude", {{"none", BondExclusion::None},
+                                                                {"1-2", BondExclusion::OneTwo},
+                                                                {"1-3", BondExclusion::OneThree}})
+                            .value_or(BondExclusion::None);
 }
 
 void read_integrator(const Section& top, SimulationSpec& spec) {
@@ -717,7 +804,8 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
 
   const Section top(root, "",
                     {"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
-                     "poiseuille", "analysis", "parallel", "solid", "walls"},
+                     "poiseuille", "analysis", "parallel", "solid", "walls", "bond_type", "angle_type",
+                     "molecule", "bonds"},
                     source_name);
   SimulationSpec spec;
   spec.source = source_name;
@@ -725,6 +813,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   read_init(top, base_dir, spec);
   read_species(top, spec);
   read_pair(top, spec);
+  read_topology(top, spec);
   read_integrator(top, spec);
   read_run(top, spec);
   read_neighbor(top, spec);

@@ -495,6 +495,63 @@ void GsdWriter::write_frame(const FrameView& f) {
     chunks.push_back(Chunk::make("particles/image", kInt32, 3,
                                  per_particle([&](std::size_t i, int d) { return im[d][i]; }, 3)));
   }
+  if (n > 0 && next_frame_ == 0 && f.topology != nullptr && !f.topology->empty()) {
+    // Rows of the particle chunks are in id order: row of id = its rank among the ids.
+    std::vector<std::uint32_t> sorted_ids(n);
+    for (std::size_t k = 0; k < n; ++k) sorted_ids[k] = f.id[order[k]];
+    auto row = [&](std::uint32_t id) {
+      const auto it = std::lower_bound(sorted_ids.begin(), sorted_ids.end(), id);
+      if (it == sorted_ids.end() || *it != id)
+        fail("step " + std::to_string(f.step) + ": a bond or angle names particle id " + std::to_string(id) +
+             ", which is not in the frame");
+      return static_cast<std::uint32_t>(it - sorted_ids.begin());
+    };
+    auto type_table = [&](const std::vector<std::string>* names, int count) {
+      std::vector<std::string> t;
+      for (int k = 0; k < count; ++k)
+        t.push_back(names != nullptr && static_cast<std::size_t>(k) < names->size() ? (*names)[static_cast<std::size_t>(k)]
+                                                                                    : std::to_string(k + 1));
+      std::size_t width = 1;
+      for (const auto& x : t) width = std::max(width, x.size() + 1);
+      std::vector<std::int8_t> table(t.size() * width, 0);
+      for (std::size_t k = 0; k < t.size(); ++k) std::memcpy(&table[k * width], t[k].data(), t[k].size());
+      return std::make_pair(width, table);
+    };
+    const Topology& topo = *f.topology;
+    if (!topo.bonds.empty()) {
+      int ntypes = 0;
+      std::vector<std::uint32_t> typeid_, group;
+      for (const Bond& b : topo.bonds) {
+        ntypes = std::max(ntypes, b.type + 1);
+        typeid_.push_back(static_cast<std::uint32_t>(b.type));
+        group.push_back(row(b.a));
+        group.push_back(row(b.b));
+      }
+      const auto [width, table] = type_table(f.bond_type_names, ntypes);
+      chunks.push_back(Chunk::make("bonds/N", kUint32, 1,
+                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.bonds.size())}));
+      chunks.push_back(Chunk::make("bonds/types", kInt8, static_cast<std::uint32_t>(width), table));
+      chunks.push_back(Chunk::make("bonds/typeid", kUint32, 1, typeid_));
+      chunks.push_back(Chunk::make("bonds/group", kUint32, 2, group));
+    }
+    if (!topo.angles.empty()) {
+      int ntypes = 0;
+      std::vector<std::uint32_t> typeid_, group;
+      for (const Angle& a : topo.angles) {
+        ntypes = std::max(ntypes, a.type + 1);
+        typeid_.push_back(static_cast<std::uint32_t>(a.type));
+        group.push_back(row(a.a));
+        group.push_back(row(a.b));
+        group.push_back(row(a.c));
+      }
+      const auto [width, table] = type_table(f.angle_type_names, ntypes);
+      chunks.push_back(Chunk::make("angles/N", kUint32, 1,
+                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.angles.size())}));
+      chunks.push_back(Chunk::make("angles/types", kInt8, static_cast<std::uint32_t>(width), table));
+      chunks.push_back(Chunk::make("angles/typeid", kUint32, 1, typeid_));
+      chunks.push_back(Chunk::make("angles/group", kUint32, 3, group));
+    }
+  }
   if (n > 0 && fields_.force) {
     const double* fo[3] = {f.fx, f.fy, f.fz};
     chunks.push_back(

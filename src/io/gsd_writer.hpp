@@ -20,6 +20,11 @@
 //   log/particles/id          uint32 [N]        "id" (the hoomd schema has no id chunk)
 //   log/particles/<name>      its type [N]      an extra field of the particle field list
 //                                               (FrameView::extra), when selected by name
+//   bonds/N, bonds/types, bonds/typeid, bonds/group (uint32 [N x 2], particle rows)   the frame's
+//   angles/N, angles/types, angles/typeid, angles/group (uint32 [N x 3])              topology, in
+//                                               the first frame of a file only (the schema's readers
+//                                               take absent chunks from frame 0), so OVITO and VMD
+//                                               draw the chains
 // Particles are written in increasing global id, so row k of every per-particle chunk is the k-th
 // smallest id; for ids 0..N-1 the row index equals the id. The frame's `time` has no place in the
 // schema and is not written.

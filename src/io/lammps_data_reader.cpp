@@ -144,6 +144,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
 
   LammpsData data;
   std::optional<std::int64_t> n_atoms, n_types;
+  std::int64_t n_bonds = 0, n_angles = 0;
   std::array<bool, 3> have_bounds{};
   constexpr std::int64_t kMaxCount = std::numeric_limits<std::uint32_t>::max();
   for (const Line& line : header) {
@@ -168,29 +169,30 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
       }
     } else if (t.size() >= 2 && std::isdigit(static_cast<unsigned char>(t[0][0]))) {
       // Counts of things atom_style atomic does not have are fine when zero (write_data emits some).
-      static const char* const kZeroOnly[] = {"bonds",
-                                              "angles",
-                                              "dihedrals",
-                                              "impropers",
-                                              "bond types",
-                                              "angle types",
-                                              "dihedral types",
-                                              "improper types",
-                                              "extra bond per atom",
-                                              "extra angle per atom",
-                                              "extra dihedral per atom",
-                                              "extra improper per atom",
-                                              "extra special per atom",
-                                              "ellipsoids",
-                                              "lines",
-                                              "triangles",
-                                              "bodies"};
+      static const char* const kZeroOnly[] = {"dihedrals",      "impropers", "dihedral types", "improper types",
+                                              "ellipsoids",     "lines",     "triangles",      "bodies"};
+      // Hints for LAMMPS's memory, meaningless here.
+      static const char* const kIgnored[] = {"extra bond per atom", "extra angle per atom", "extra dihedral per atom",
+                                             "extra improper per atom", "extra special per atom"};
       const std::string keyword = join(t, 1);
+      if (std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored)) {
+        p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<std::int64_t>::max());
+        continue;
+      }
+      if (keyword == "bonds" || keyword == "angles") {
+        (keyword == "bonds" ? n_bonds : n_angles) = p.integer(line, 0, keyword.c_str(), 0, kMaxCount);
+        continue;
+      }
+      if (keyword == "bond types" || keyword == "angle types") {
+        (keyword == "bond types" ? data.n_bond_types : data.n_angle_types) =
+            static_cast<int>(p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<int>::max()));
+        continue;
+      }
       if (std::find(std::begin(kZeroOnly), std::end(kZeroOnly), keyword) == std::end(kZeroOnly)) {
         p.fail(line, "unknown header line '" + join(t, 0) + "'");
       }
       if (p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<std::int64_t>::max()) != 0) {
-        p.fail(line, "'" + keyword + "' is not supported: only atom_style atomic (no bonded topology)");
+        p.fail(line, "'" + keyword + "' is not supported: bonds and angles are the only bonded terms mesodpd reads");
       }
     } else {
       p.fail(line, "unknown header line '" + join(t, 0) + "'");
@@ -209,14 +211,23 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
   const Section* atoms = nullptr;
   const Section* masses = nullptr;
   const Section* velocities = nullptr;
+  const Section* bonds = nullptr;
+  const Section* angles = nullptr;
   for (const Section& s : sections) {
     const std::string name = join(s.header.tokens, 0);
     const Section** slot = nullptr;
     if (name == "Atoms") {
       slot = &atoms;
-      if (!s.header.comment.empty() && s.header.comment != "atomic") {
-        p.fail(s.header, "atom style '" + s.header.comment + "' is not supported: only atomic");
+      static const char* const kStyles[] = {"atomic", "bond", "angle", "molecular", "full"};
+      if (!s.header.comment.empty() &&
+          std::find(std::begin(kStyles), std::end(kStyles), s.header.comment) == std::end(kStyles)) {
+        p.fail(s.header, "atom style '" + s.header.comment +
+                             "' is not supported: atomic, bond, angle, molecular or full (without charges)");
       }
+    } else if (name == "Bonds") {
+      slot = &bonds;
+    } else if (name == "Angles") {
+      slot = &angles;
     } else if (name == "Masses") {
       slot = &masses;
     } else if (name == "Velocities") {
@@ -224,8 +235,8 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
     } else if (name.size() > 7 && name.ends_with(" Coeffs")) {
       continue;  // interaction parameters come from the mesodpd configuration, not the data file
     } else {
-      p.fail(s.header,
-             "section '" + name + "' is not supported (atom_style atomic: Masses, Atoms, Velocities)");
+      p.fail(s.header, "section '" + name + "' is not supported (Masses, Atoms, Velocities, Bonds, Angles and "
+                                            "... Coeffs are read)");
     }
     if (*slot != nullptr) {
       p.fail(s.header,
@@ -266,24 +277,46 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
     }
     data.atoms.reserve(atoms->lines.size());
     std::unordered_map<std::uint32_t, std::size_t> line_of_id;
+    // The style: named after "Atoms", or known from the column count (5/8 atomic, 6/9 molecular, 7/10 full).
+    std::string style = atoms->header.comment;
+    if (style == "bond" || style == "angle") style = "molecular";
+    if (style.empty() && !atoms->lines.empty()) {
+      const std::size_t c = atoms->lines.front().tokens.size();
+      style = (c == 5 || c == 8) ? "atomic" : (c == 6 || c == 9) ? "molecular" : (c == 7 || c == 10) ? "full" : "";
+      if (style.empty())
+        p.fail(atoms->lines.front(), "cannot tell the atom style from " + std::to_string(c) +
+                                         " columns; name it after 'Atoms' (e.g. 'Atoms # molecular')");
+    }
+    const std::size_t base = style == "atomic" ? 5 : style == "molecular" ? 6 : 7;
+    const char* layout = style == "atomic"      ? "'id type x y z [ix iy iz]' (atom_style atomic)"
+                         : style == "molecular" ? "'id mol type x y z [ix iy iz]' (atom_style molecular)"
+                                                : "'id mol type q x y z [ix iy iz]' (atom_style full)";
     for (const Line& line : atoms->lines) {
       const auto& t = line.tokens;
-      if (t.size() != 5 && t.size() != 8) {
-        p.fail(line, "expected 'id type x y z [ix iy iz]' (atom_style atomic), found " +
-                         std::to_string(t.size()) + " columns");
+      if (t.size() != base && t.size() != base + 3) {
+        p.fail(line, std::string("expected ") + layout + ", found " + std::to_string(t.size()) + " columns");
       }
       LammpsAtom a;
       a.id = static_cast<std::uint32_t>(p.integer(line, 0, "atom id", 1, kMaxCount));
-      a.type = static_cast<int>(p.integer(line, 1, "atom type", 1, data.n_types));
-      a.x = p.real(line, 2, "x");
-      a.y = p.real(line, 3, "y");
-      a.z = p.real(line, 4, "z");
-      if (t.size() == 8) {
+      std::size_t c = 1;
+      if (base >= 6)
+        a.mol = static_cast<std::int32_t>(p.integer(line, c++, "molecule id", 0, std::numeric_limits<std::int32_t>::max()));
+      a.type = static_cast<int>(p.integer(line, c++, "atom type", 1, data.n_types));
+      if (base == 7) {
+        const double q = p.real(line, c++, "charge");
+        if (q != 0.0)
+          p.fail(line, "charge " + line.tokens[c - 1] + " of atom " + std::to_string(a.id) +
+                           " is not zero: mesodpd has no electrostatics (atom_style full is read with zero charges only)");
+      }
+      a.x = p.real(line, c, "x");
+      a.y = p.real(line, c + 1, "y");
+      a.z = p.real(line, c + 2, "z");
+      if (t.size() == base + 3) {
         constexpr std::int64_t lo = std::numeric_limits<std::int32_t>::min();
         constexpr std::int64_t hi = std::numeric_limits<std::int32_t>::max();
-        a.ix = static_cast<std::int32_t>(p.integer(line, 5, "image flag ix", lo, hi));
-        a.iy = static_cast<std::int32_t>(p.integer(line, 6, "image flag iy", lo, hi));
-        a.iz = static_cast<std::int32_t>(p.integer(line, 7, "image flag iz", lo, hi));
+        a.ix = static_cast<std::int32_t>(p.integer(line, base, "image flag ix", lo, hi));
+        a.iy = static_cast<std::int32_t>(p.integer(line, base + 1, "image flag iy", lo, hi));
+        a.iz = static_cast<std::int32_t>(p.integer(line, base + 2, "image flag iz", lo, hi));
       }
       const auto [it, inserted] = line_of_id.emplace(a.id, line.number);
       if (!inserted) {
@@ -323,6 +356,47 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
   if (velocities != nullptr && atoms == nullptr && !velocities->lines.empty()) {
     p.fail(velocities->header, "Velocities section without an Atoms section");
   }
+  // Bonds and angles: "id type atom atom [atom]", every atom in the Atoms section.
+  std::unordered_map<std::uint32_t, bool> known;
+  for (const LammpsAtom& a : data.atoms) known.emplace(a.id, true);
+  auto read_bonded = [&](const Section* sec, const char* what, std::int64_t declared, int n_types, std::size_t n_atoms_per,
+                         std::vector<LammpsBonded>& out) {
+    const std::string name = what;
+    if (sec == nullptr) {
+      if (declared > 0) p.fail("no " + name + " section, but the header declares " + std::to_string(declared) + " " +
+                               (n_atoms_per == 2 ? "bonds" : "angles"));
+      return;
+    }
+    if (static_cast<std::int64_t>(sec->lines.size()) != declared)
+      p.fail(sec->header, name + " section has " + std::to_string(sec->lines.size()) + " lines, but the header declares " +
+                              std::to_string(declared));
+    if (declared > 0 && n_types < 1)
+      p.fail(sec->header, name + " section without a '" + (n_atoms_per == 2 ? "bond" : "angle") + " types' count in the header");
+    std::unordered_map<std::uint32_t, std::size_t> line_of_id;
+    for (const Line& line : sec->lines) {
+      if (line.tokens.size() != 2 + n_atoms_per)
+        p.fail(line, n_atoms_per == 2 ? "expected 'id type atom1 atom2' in Bonds section"
+                                      : "expected 'id type atom1 atom2 atom3' in Angles section");
+      const auto id = static_cast<std::uint32_t>(p.integer(line, 0, (name + " id").c_str(), 1, kMaxCount));
+      const auto [it, inserted] = line_of_id.emplace(id, line.number);
+      if (!inserted)
+        p.fail(line, "duplicate " + name + " id " + std::to_string(id) + " (first at line " + std::to_string(it->second) + ")");
+      LammpsBonded b;
+      b.type = static_cast<int>(p.integer(line, 1, (name + " type").c_str(), 1, std::max(1, n_types)));
+      for (std::size_t k = 0; k < n_atoms_per; ++k) {
+        b.atoms[k] = static_cast<std::uint32_t>(p.integer(line, 2 + k, "atom id", 1, kMaxCount));
+        if (!known.count(b.atoms[k]))
+          p.fail(line, name + " " + std::to_string(id) + " names atom " + std::to_string(b.atoms[k]) +
+                           ", which is not in the Atoms section");
+        for (std::size_t q = 0; q < k; ++q)
+          if (b.atoms[q] == b.atoms[k])
+            p.fail(line, name + " " + std::to_string(id) + " names atom " + std::to_string(b.atoms[k]) + " twice");
+      }
+      out.push_back(b);
+    }
+  };
+  read_bonded(bonds, "Bonds", n_bonds, data.n_bond_types, 2, data.bonds);
+  read_bonded(angles, "Angles", n_angles, data.n_angle_types, 3, data.angles);
   return data;
 }
 

@@ -1,5 +1,6 @@
-// Import of initial configurations from LAMMPS data files (atom_style atomic, orthorhombic box), so
-// systems built with LAMMPS, Moltemplate, Packmol+VMD or OVITO can be started in mesodpd.
+// Import of initial configurations from LAMMPS data files (atom styles atomic, bond, angle, molecular
+// and full without charges; orthorhombic box), so systems built with LAMMPS, Moltemplate, Packmol+VMD
+// or OVITO can be started in mesodpd.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -13,6 +14,13 @@ struct LammpsAtom {
   int type = 0;                // LAMMPS atom type as in the file, 1..n_types (species index = type - 1)
   double x = 0, y = 0, z = 0;  // as written; not wrapped into the box
   std::int32_t ix = 0, iy = 0, iz = 0;  // image flags, 0 when the file has none
+  std::int32_t mol = 0;        // molecule id (styles bond, angle, molecular, full), 0 otherwise
+};
+
+// One line of the Bonds (atoms a, b) or Angles (a, b, c; b the centre) section.
+struct LammpsBonded {
+  int type = 0;                      // 1..n types as in the file
+  std::uint32_t atoms[3] = {0, 0, 0};
 };
 
 struct LammpsData {
@@ -22,14 +30,21 @@ struct LammpsData {
   std::vector<LammpsAtom> atoms;  // in file order
   bool has_velocities = false;
   std::vector<std::array<double, 3>> velocities;  // velocities[k] belongs to atoms[k]; empty if none
+  int n_bond_types = 0, n_angle_types = 0;
+  std::vector<LammpsBonded> bonds, angles;        // in file order
 };
 
-// Reads the header ("N atoms", "M atom types", "xlo xhi", "ylo yhi", "zlo zhi"; zero counts of
-// bonds, angles, ... are accepted), the Masses, Atoms ("id type x y z [ix iy iz]") and Velocities
-// ("id vx vy vz") sections, and skips "... Coeffs" sections (interactions come from the config).
+// Reads the header ("N atoms", "M atom types", "xlo xhi", "ylo yhi", "zlo zhi", "N bonds", "N bond
+// types", "N angles", "N angle types"; zero counts of dihedrals, impropers, ... are accepted), the
+// Masses, Atoms, Velocities ("id vx vy vz"), Bonds ("id type a b") and Angles ("id type a b c")
+// sections, and skips "... Coeffs" sections (interactions come from the config). Atoms lines are
+// "id type x y z" (atomic), "id mol type x y z" (bond, angle, molecular) or "id mol type q x y z"
+// (full; every charge must be zero: DPD has no electrostatics), each optionally followed by image
+// flags; the style is the comment after "Atoms" or, without one, follows from the column count.
 // Everything else is an error. Errors are ConfigError naming the file and, for a bad line, its
-// line number: malformed line, tilted box ("orthorhombic only"), atom style other than atomic,
-// duplicate id, type out of range, count mismatch, missing Atoms section, velocity for an unknown id.
+// line number: malformed line, tilted box ("orthorhombic only"), an atom style not read, a nonzero
+// charge, dihedrals or impropers, duplicate id, type out of range, count mismatch, missing Atoms
+// section, velocity for an unknown id, a bond or angle naming an atom that does not exist.
 LammpsData read_lammps_data(const std::filesystem::path& path);
 
 }  // namespace mesodpd

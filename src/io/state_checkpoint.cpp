@@ -21,7 +21,7 @@ constexpr std::uint64_t tag_of(int version) { return kTagStem | static_cast<std:
 }  // namespace
 
 void write_state_checkpoint(const std::filesystem::path& file, const StateHeader& h, const ParticleData& all,
-                            const std::vector<std::byte>* observer_state) {
+                            const std::vector<std::byte>* observer_state, const Topology* topology) {
   ByteWriter w;
   w.put<std::uint64_t>(tag_of(kStateFormatVersion));
   w.put<std::uint64_t>(h.step);
@@ -44,6 +44,16 @@ void write_state_checkpoint(const std::filesystem::path& file, const StateHeader
   });
   w.put<std::uint8_t>(observer_state ? 1 : 0);
   if (observer_state) w.put_vector(*observer_state);
+  // Topology: bonds as (a, b, type) and angles as (a, b, c, type), 32-bit words.
+  std::vector<std::uint32_t> words;
+  if (topology)
+    for (const Bond& b : topology->bonds) words.insert(words.end(), {b.a, b.b, static_cast<std::uint32_t>(b.type)});
+  w.put_vector(words);
+  words.clear();
+  if (topology)
+    for (const Angle& a : topology->angles)
+      words.insert(words.end(), {a.a, a.b, a.c, static_cast<std::uint32_t>(a.type)});
+  w.put_vector(words);
   write_checkpoint_file(file, w.bytes());
 }
 
@@ -100,6 +110,14 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
     if ((ParticleData::fields()[k].flags & field::kCheckpoint) && !seen[k])
       throw ConfigError(fmt::format("{}: particle field '{}' is missing", where, ParticleData::fields()[k].name));
   if (r.get<std::uint8_t>() != 0) c.observer_state = r.get_vector<std::byte>();
+  const std::vector<std::uint32_t> bonds = r.get_vector<std::uint32_t>();
+  const std::vector<std::uint32_t> angles = r.get_vector<std::uint32_t>();
+  if (bonds.size() % 3 != 0 || angles.size() % 4 != 0)
+    throw ConfigError(fmt::format("{}: damaged topology section", where));
+  for (std::size_t k = 0; k < bonds.size(); k += 3)
+    c.topology.bonds.push_back({bonds[k], bonds[k + 1], static_cast<std::int32_t>(bonds[k + 2])});
+  for (std::size_t k = 0; k < angles.size(); k += 4)
+    c.topology.angles.push_back({angles[k], angles[k + 1], angles[k + 2], static_cast<std::int32_t>(angles[k + 3])});
   r.expect_end();
   return c;
 }

@@ -9,12 +9,14 @@
 #include <vector>
 
 #include "core/particle_data.hpp"
+#include "core/topology.hpp"
 
 namespace mesodpd {
 
 // Version of the payload layout, stored as the tag "MESODPD<version>". 3: fixed list of arrays (up
-// to this refactor); 4: named, typed fields from the particle field list.
-inline constexpr int kStateFormatVersion = 4;
+// to this refactor); 4: named, typed fields from the particle field list; 5: the molecular topology
+// (bonds and angles by global id) after the observers' section.
+inline constexpr int kStateFormatVersion = 5;
 
 struct StateHeader {
   std::uint64_t step = 0;
@@ -31,12 +33,13 @@ struct StateCheckpoint {
   StateHeader header;
   ParticleData particles;
   std::optional<std::vector<std::byte>> observer_state;
+  Topology topology;
 };
 
 // Writes the first all.n_local particles of `all` (every field flagged kCheckpoint) atomically.
 // Throws ConfigError naming the file.
 void write_state_checkpoint(const std::filesystem::path& file, const StateHeader& header, const ParticleData& all,
-                            const std::vector<std::byte>* observer_state);
+                            const std::vector<std::byte>* observer_state, const Topology* topology = nullptr);
 
 // Reads a checkpoint written by write_state_checkpoint. Throws ConfigError naming the file for a
 // damaged file (container checks), another payload version (naming both versions), a field missing,

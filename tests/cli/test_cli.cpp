@@ -288,7 +288,7 @@ TEST(Cli, CheckpointOfAnOlderFormatIsRefused) {
   fs::copy_file(data / "format3_tiny.mdpd", dir / "old.mdpd", fs::copy_options::overwrite_existing);
   fs::copy_file(data / "format3_tiny.toml", dir / "tiny.toml", fs::copy_options::overwrite_existing);
   expect_config_error(dir, {"format 3 checkpoint", "", "run tiny.toml --out o --steps 4 --restart old.mdpd",
-                            {"old.mdpd", "format 3", "format 4"}});
+                            {"old.mdpd", "format 3", "format 5"}});
   EXPECT_FALSE(fs::exists(dir / "o" / "thermo.csv"));
 }
 

@@ -122,6 +122,69 @@ TEST_F(LammpsDataTest, ReadsMinimalFileWithoutOptionalParts) {
   EXPECT_EQ(d.atoms[1].iz, 0);
 }
 
+// Styles molecular and full (zero charges): molecule ids, Bonds and Angles read exactly.
+TEST_F(LammpsDataTest, ReadsMolecularTopology) {
+  const std::string molecular = R"(chains
+4 atoms
+2 atom types
+3 bonds
+2 bond types
+2 angles
+1 angle types
+1 extra bond per atom
+0 dihedrals
+0 10 xlo xhi
+0 10 ylo yhi
+0 10 zlo zhi
+
+Atoms # molecular
+
+1 7 1 1.0 1.0 1.0
+2 7 1 1.5 1.0 1.0 0 0 0
+3 7 2 2.0 1.0 1.0
+4 7 2 2.5 1.0 1.0
+
+Bond Coeffs
+
+1 harmonic 4.0 0.0
+
+Bonds
+
+1 1 1 2
+2 1 2 3
+3 2 3 4
+
+Angles
+
+1 1 1 2 3
+2 1 2 3 4
+)";
+  for (const bool full : {false, true}) {
+    std::string text = molecular;
+    if (full) {
+      text.replace(text.find("Atoms # molecular"), 17, "Atoms");
+      for (const char* line : {"1 7 1 1.0", "2 7 1 1.5", "3 7 2 2.0", "4 7 2 2.5"}) {
+        const std::string l = line;
+        text.replace(text.find(l), l.size(), l.substr(0, 6) + "0.0 " + l.substr(6));
+      }
+    }
+    const LammpsData d = read_lammps_data(write(text));
+    ASSERT_EQ(d.atoms.size(), 4u);
+    EXPECT_EQ(d.atoms[1].mol, 7);
+    EXPECT_EQ(d.atoms[2].type, 2);
+    EXPECT_EQ(d.atoms[3].x, 2.5);
+    EXPECT_EQ(d.n_bond_types, 2);
+    EXPECT_EQ(d.n_angle_types, 1);
+    ASSERT_EQ(d.bonds.size(), 3u);
+    EXPECT_EQ(d.bonds[2].type, 2);
+    EXPECT_EQ(d.bonds[2].atoms[0], 3u);
+    EXPECT_EQ(d.bonds[2].atoms[1], 4u);
+    ASSERT_EQ(d.angles.size(), 2u);
+    EXPECT_EQ(d.angles[1].atoms[1], 3u);
+    EXPECT_EQ(d.angles[1].atoms[2], 4u);
+  }
+}
+
 TEST_F(LammpsDataTest, MissingFileIsNamed) {
   const auto p = dir_ / "absent.data";
   try {
@@ -166,7 +229,8 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, BadLammpsData,
     ::testing::Values(
         BadCase{"too_few_columns", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0\n", 11, "id type x y z"},
-        BadCase{"six_columns", header() + "Atoms\n\n1 1 0 0 0 0\n2 1 0 0 0\n", 10, "found 6 columns"},
+        BadCase{"mixed_columns", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0 0 0\n", 11, "found 6 columns"},
+        BadCase{"unknown_column_count", header() + "Atoms\n\n1 1 0 0\n2 1 0 0 0 0\n", 10, "cannot tell the atom style"},
         BadCase{"not_a_number", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 1.0abc 0\n", 11, "cannot read y"},
         BadCase{"nan_coordinate", header() + "Atoms\n\n1 1 0 0 nan\n2 1 0 0 0\n", 10, "finite"},
         BadCase{"fractional_id", header() + "Atoms\n\n1.5 1 0 0 0\n2 1 0 0 0\n", 10, "atom id"},
@@ -186,8 +250,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"velocity_columns",
                 header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0 0\n\nVelocities\n\n1 0 0\n2 0 0 0\n", 15,
                 "id vx vy vz"},
-        BadCase{"full_style", header() + "Atoms # full\n\n1 1 1 0.0 0 0 0\n2 1 1 0.0 0 0 0\n", 8,
-                "atom style 'full' is not supported"},
+        BadCase{"charged_full_style", header() + "Atoms # full\n\n1 1 1 0.0 0 0 0\n2 1 1 0.5 0 0 0\n", 11,
+                "charge 0.5 of atom 2 is not zero"},
+        BadCase{"sphere_style", header() + "Atoms # sphere\n\n1 1 1 1 0 0 0\n2 1 1 1 0 0 0\n", 8,
+                "atom style 'sphere' is not supported"},
         BadCase{"tilt",
                 "title\n1 atoms\n1 atom types\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n0.5 0 0 xy xz yz\n", 7,
                 "orthorhombic only"},
@@ -201,9 +267,24 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"unknown_header",
                 "title\n1 atoms\n1 atom types\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n3 widgets\n", 7,
                 "unknown header line '3 widgets'"},
-        BadCase{"bonds", "title\n1 atoms\n1 atom types\n4 bonds\n", 4, "only atom_style atomic"},
-        BadCase{"bonds_section", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0 0\n\nBonds\n\n1 1 1 2\n", 13,
-                "section 'Bonds' is not supported"},
+        BadCase{"dihedrals", "title\n1 atoms\n1 atom types\n4 dihedrals\n", 4, "'dihedrals' is not supported"},
+        BadCase{"bonds_not_declared", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0 0\n\nBonds\n\n1 1 1 2\n", 13,
+                "declares 0"},
+        BadCase{"bonds_missing", "title\n2 atoms\n1 atom types\n1 bonds\n1 bond types\n0 9 xlo xhi\n0 9 ylo yhi\n"
+                "0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n",
+                std::nullopt, "no Bonds section"},
+        BadCase{"bond_unknown_atom", "title\n2 atoms\n1 atom types\n1 bonds\n1 bond types\n0 9 xlo xhi\n0 9 ylo yhi\n"
+                "0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n\nBonds\n\n1 1 1 3\n",
+                17, "names atom 3, which is not in the Atoms section"},
+        BadCase{"bond_type_range", "title\n2 atoms\n1 atom types\n1 bonds\n1 bond types\n0 9 xlo xhi\n0 9 ylo yhi\n"
+                "0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n\nBonds\n\n1 2 1 2\n",
+                17, "Bonds type 2 is out of range"},
+        BadCase{"angle_columns", "title\n3 atoms\n1 atom types\n1 angles\n1 angle types\n0 9 xlo xhi\n0 9 ylo yhi\n"
+                "0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n3 1 1 0 1 1\n\nAngles\n\n1 1 1 2\n",
+                18, "id type atom1 atom2 atom3"},
+        BadCase{"angle_repeated_atom", "title\n3 atoms\n1 atom types\n1 angles\n1 angle types\n0 9 xlo xhi\n"
+                "0 9 ylo yhi\n0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n3 1 1 0 1 1\n\nAngles\n\n1 1 1 2 1\n",
+                18, "names atom 1 twice"},
         BadCase{"mass_missing_type", header() + "Masses\n\n1 1.0\n\nAtoms\n\n1 1 0 0 0\n2 1 0 0 0\n", 8,
                 "no mass for atom type 2"},
         BadCase{"mass_nonpositive", header() + "Masses\n\n1 1.0\n2 -1\n", 11, "must be positive"},

@@ -398,6 +398,20 @@ spacing = 4
 radius = 1
 )");
   EXPECT_NE(m.find("system.box[0]"), std::string::npos) << m;
+  // Chains placed as random walks through the box would cross the walls: refused, naming the section.
+  m = config_error(std::string(kChannel) + R"(
+[[bond_type]]
+name = "spring"
+style = "harmonic"
+k = 4
+[[molecule]]
+name = "chain"
+sequence = "fluid5"
+bond_type = "spring"
+count = 2
+)");
+  EXPECT_NE(m.find("molecule"), std::string::npos) << m;
+  EXPECT_NE(m.find("[[solid]]"), std::string::npos) << m;
 }
 
 TEST(SolidConfig, BodyForceAlongABoundedAxisWithoutWallsIsRefused) {
