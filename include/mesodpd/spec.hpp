@@ -300,6 +300,8 @@ struct SimulationSpec {
   std::vector<MoleculeSpec> molecules;          // [[molecule]]
   BondExclusion bond_exclusion = BondExclusion::None;  // [bonds] exclude
   std::optional<double> bond_reach_set;         // [bonds] reach as written
+  int bond_subcycles = 1;                       // [bonds] subcycles: inner steps of the bonded forces per
+                                                // time step (multiple time stepping, r-RESPA); 1: none
   double bond_reach = 0;                        // longest bond or angle leg allowed; validate(): default the
                                                 // largest pair cutoff. Neighbour cells (and so ghost layers)
                                                 // are at least max(cutoff, reach) + skin wide.

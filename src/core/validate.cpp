@@ -550,6 +550,17 @@ void validate_topology(SimulationSpec& spec) {
          fmt::format("must be at least the largest pair cutoff {}", largest_cutoff(spec)));
   spec.bond_reach = spec.bond_reach_set.value_or(largest_cutoff(spec));
   const double reach = spec.bond_reach;
+  if (spec.bond_subcycles < 1 || spec.bond_subcycles > 1000)
+    fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles), "must be an integer in [1, 1000]");
+  if (spec.bond_subcycles > 1) {
+    if (spec.integrator != IntegratorKind::GrootWarren)
+      fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
+           "multiple time stepping splits the Groot-Warren (velocity-Verlet) step; it is not available with "
+           "integrator.type = \"euler\"");
+    if (spec.molecules.empty() && spec.data_file.empty())
+      fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
+           "there are no bonds to subcycle: add [[molecule]] blocks or read a data file with a Bonds section");
+  }
   for (std::size_t k = 0; k < spec.bond_types.size(); ++k) {
     BondTypeSpec& b = spec.bond_types[k];
     const std::string key = fmt::format("bond_type[{}]", k);

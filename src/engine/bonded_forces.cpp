@@ -103,7 +103,8 @@ BondedForces::BondedForces(Topology topology, std::vector<BondParams> bond_types
 }
 
 std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box, Halo& halo, bool with_sums,
-                                                 PairSums& sums, const PairSubtractor& subtract) {
+                                                 PairSums& sums, const PairSubtractor& subtract,
+                                                 std::vector<double>* fast, bool only_fast) {
   if (topo_.empty()) return std::nullopt;
   ids_.refresh(p);
   const std::size_t n = p.n_local;
@@ -231,6 +232,16 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     out.length = len;
     return out;
   }
+  // Multiple time stepping: the bonded force alone, per local particle, for the inner steps.
+  if (fast != nullptr) {
+    if (halo.active()) halo.reverse_forces(f, p);
+    fast->resize(3 * n);
+    double* out = fast->data();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < 3 * n; ++i) out[i] = static_cast<double>(f[i]) * kForceUnscale;
+    if (only_fast) return std::nullopt;
+    std::fill(fixed_.begin(), fixed_.end(), 0);  // what follows adds the exclusions alone to p
+  }
   // Excluded pairs: the pair loop's integers for them, subtracted (before ghost forces go home).
   std::int64_t excl_totals[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   if (!excl_of_.empty() && subtract) {
@@ -247,7 +258,8 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     }
     subtract(excl_pairs_, f, excl_totals);
   }
-  if (halo.active()) halo.reverse_forces(f, p);
+  // (Collective: the condition is the same on every rank, the topology being known to all.)
+  if (halo.active() && (fast == nullptr || (!excl_of_.empty() && subtract))) halo.reverse_forces(f, p);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     p.fx[i] += static_cast<double>(f[3 * i]) * kForceUnscale;

@@ -59,8 +59,12 @@ class BondedForces {
   // With exclusions, `subtract` removes the pair force of the excluded pairs (each pair once, by the
   // rank that owns its lower id; a partner this rank does not hold is beyond the pair cutoff, so it
   // had no pair force).
+  // With `fast` (multiple time stepping), the bonded force is written there instead (x, y, z per local
+  // particle, ghost contributions included) and only the exclusions are added to p (the sums still
+  // include both); with `only_fast` too, nothing else is done: no exclusion subtracted, no sum taken.
   std::optional<BondProblem> compute(ParticleData& p, const Box& box, Halo& halo, bool with_sums, PairSums& sums,
-                                     const PairSubtractor& subtract = {});
+                                     const PairSubtractor& subtract = {}, std::vector<double>* fast = nullptr,
+                                     bool only_fast = false);
   // Excluded pairs (lower id, higher id), for tests.
   std::size_t excluded_pairs() const { return excl_of_.size(); }
 

@@ -60,14 +60,14 @@ std::optional<EscapedParticle> apply_box_boundaries(ParticleData& p, const Box& 
   return EscapedParticle{static_cast<std::uint32_t>(id), static_cast<int>(state[3]), state[0], state[1], state[2]};
 }
 
-void rebuild_neighbors(NeighborList& list, ParticleData& p, const Box& box, Halo& halo) {
+void rebuild_neighbors(NeighborList& list, ParticleData& p, const Box& box, Halo& halo, ParticleData::Forces forces) {
   if (!halo.active()) {
-    list.build(p, box);
+    list.build(p, box, forces);
     return;
   }
   list.set_grid(box, halo.cell_domain());
   halo.migrate(p, list.grid());  // drops the old ghosts; particles change ranks only here
-  list.sort_locals(p);
+  list.sort_locals(p, forces);
   halo.build_ghosts(p, list.grid(), list.cell_start());
   list.finish(p, box, halo.ghost_counts());
 }

@@ -28,7 +28,8 @@ std::optional<EscapedParticle> apply_box_boundaries(ParticleData& p, const Box& 
 
 // Full rebuild: sends every local particle to the rank that owns its cell (when `halo` is active),
 // sorts the locals by cell, appends the ghosts and builds the list. Collective under MPI.
-void rebuild_neighbors(NeighborList& list, ParticleData& p, const Box& box, Halo& halo);
+void rebuild_neighbors(NeighborList& list, ParticleData& p, const Box& box, Halo& halo,
+                       ParticleData::Forces forces = ParticleData::Forces::Discard);
 
 // The neighbour stage of a step: a full rebuild when some particle on any rank has moved half the
 // skin (every step in cell-pair mode), otherwise only the ghosts' positions and velocities are

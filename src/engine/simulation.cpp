@@ -93,6 +93,13 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   if (!restarted) {
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
+  } else if (spec_.bond_subcycles > 1) {
+    // The checkpoint holds the other forces; the bonded ones at the same positions are recomputed
+    // (integer sums: the same bits as the interrupted run had). They need the ghosts, whose build is
+    // not counted as a neighbour-list build of the run.
+    rebuild_neighbors(nlist_, p_, box_, halo_, ParticleData::Forces::Keep);
+    if (neighbor_builds_before_ > 0) --neighbor_builds_before_;
+    add_bonded_forces(false, &fast_, true);
   }
   ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}};
   if (!spec_.solids.empty()) {
@@ -195,14 +202,15 @@ void Simulation::make_bonded(Topology topology) {
                         std::max(spec_.bond_reach, forces_.max_cutoff()), max_id, spec_.bond_exclusion);
 }
 
-void Simulation::add_bonded_forces(bool with_sums) {
+void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bool only_fast) {
   // Excluded bonded pairs (bonds.exclude): the pair loop's own passes recompute their pair force, which
   // is subtracted in integers, so the shared loop needs no per-pair test.
   const PairSubtractor subtract = [&](std::span<const std::uint32_t> pairs, std::int64_t* fixed, std::int64_t* totals) {
     forces_.subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals);
   };
   const double t0 = omp_get_wtime();
-  const std::optional<BondProblem> problem = bonds_.compute(p_, box_, halo_, with_sums, sums_, subtract);
+  const std::optional<BondProblem> problem =
+      bonds_.compute(p_, box_, halo_, with_sums, sums_, subtract, fast, only_fast);
   bonded_seconds_ += omp_get_wtime() - t0;
   if (!problem) return;
   const Topology& t = bonds_.topology();
@@ -234,15 +242,20 @@ void Simulation::compute_forces(bool with_sums) {
   // A many-body law first needs every particle's local density (ghosts included), then the force pass.
   const double* rho = compute_density();
   forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
-  add_bonded_forces(with_sums);
+  // With subcycles, the bonded forces go to fast_ for the inner steps of the next step.
+  add_bonded_forces(with_sums, spec_.bond_subcycles > 1 ? &fast_ : nullptr);
   sums_valid_ = with_sums;
   // External fields, walls, bonds: each adds to the pair forces, in registration order.
   run_stages(StagePoint::Forces);
 }
 
 void Simulation::step() {
-  // 1. First part of the integrator: positions and the velocity the forces will see.
-  std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
+  // 1. First part of the integrator: positions and the velocity the forces will see (with
+  //    bonds.subcycles > 1 the bonded forces act in inner steps here, and the rest below).
+  if (spec_.bond_subcycles > 1)
+    subcycle_bonded_forces();
+  else
+    std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
   // 2. Box boundaries: periodic wrap of the local particles; a particle outside a bounded axis is lost.
   if (const auto lost = apply_box_boundaries(p_, box_, halo_.comm()))
     throw BlowUpError(step_ + 1, lost->id,
@@ -267,6 +280,45 @@ void Simulation::step() {
   check_health();
   // 7. Measure and write: the observers, then the periodic checkpoint.
   run_stages(StagePoint::EndOfStep);
+}
+
+void Simulation::subcycle_bonded_forces() {
+  // r-RESPA (Tuckerman, Berne and Martyna, J. Chem. Phys. 97, 1990 (1992); the "subcycling" of seed
+  // 002): the pair and external forces F (in p.f) kick for half an outer step dt, the bonded forces
+  // F_b (in fast_) are integrated by velocity Verlet with n inner steps dt/n, and F at the new positions
+  // kicks for the other half in post_force(). The velocity the new F sees is predicted as Groot-Warren's
+  // with lambda: v~ = v + (lambda - 1/2) dt F/m after the inner steps (lambda = 1/2: no prediction).
+  const std::size_t n = p_.n_local;
+  const double dt = spec_.dt, h = dt / spec_.bond_subcycles, lambda = spec_.lambda;
+  auto kick = [&](double tau, const double* fx, const double* fy, const double* fz, std::size_t stride) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double c = tau * inv_mass_[static_cast<std::size_t>(p_.species[i])];
+      p_.vx[i] += c * fx[stride * i];
+      p_.vy[i] += c * fy[stride * i];
+      p_.vz[i] += c * fz[stride * i];
+    }
+  };
+  kick(0.5 * dt, p_.fx.data(), p_.fy.data(), p_.fz.data(), 1);
+  for (int k = 0; k < spec_.bond_subcycles; ++k) {
+    kick(0.5 * h, fast_.data(), fast_.data() + 1, fast_.data() + 2, 3);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      p_.x[i] += h * p_.vx[i];
+      p_.y[i] += h * p_.vy[i];
+      p_.z[i] += h * p_.vz[i];
+    }
+    halo_.update_ghosts(p_);  // partners on other ranks (positions only matter: the laws are conservative)
+    add_bonded_forces(false, &fast_, true);
+    kick(0.5 * h, fast_.data(), fast_.data() + 1, fast_.data() + 2, 3);
+  }
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    p_.hx[i] = p_.vx[i];
+    p_.hy[i] = p_.vy[i];
+    p_.hz[i] = p_.vz[i];
+  }
+  kick((lambda - 0.5) * dt, p_.fx.data(), p_.fy.data(), p_.fz.data(), 1);
 }
 
 const double* Simulation::compute_density() {

@@ -118,7 +118,11 @@ class Simulation {
  private:
   void compute_forces(bool with_sums);  // local densities (if the law needs them), pair forces, bonded
                                         // forces, then the Forces stages
-  void add_bonded_forces(bool with_sums);  // throws BlowUpError for a broken or over-long bond
+  // Adds the bonded forces to p (with `fast`: writes them there instead, see BondedForces::compute);
+  // throws BlowUpError for a broken or over-long bond.
+  void add_bonded_forces(bool with_sums, std::vector<double>* fast = nullptr, bool only_fast = false);
+  // bonds.subcycles > 1: the first part of the step as r-RESPA, the bonded forces in inner steps.
+  void subcycle_bonded_forces();
   void make_bonded(Topology topology);
   // The density pass of a many-body law (nullptr when the law needs none); stops the run when a local
   // density exceeds run.max_density.
@@ -152,6 +156,9 @@ class Simulation {
   std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
   bool sums_valid_ = false;
   double bonded_seconds_ = 0;  // wall time in BondedForces::compute (run summary)
+  // Multiple time stepping (bonds.subcycles > 1): the bonded force on each local particle at the
+  // current positions (storage order; x, y, z per particle); p.f then holds only the other forces.
+  std::vector<double> fast_;
   double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
   StageList stages_;                 // owns the stages, the observers among them
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)

@@ -513,8 +513,9 @@ void read_topology(const Section& top, SimulationSpec& spec) {
       s.bad("sequence", "not allowed with init.lammps_data (molecules come from the data file's Bonds section)");
     spec.molecules.push_back(std::move(m));
   }
-  const Section bonds = top.table_or_empty("bonds", {"exclude", "reach"});
+  const Section bonds = top.table_or_empty("bonds", {"exclude", "reach", "subcycles"});
   spec.bond_reach_set = bonds.real("reach");
+  spec.bond_subcycles = static_cast<int>(optional_int(bonds, "subcycles", 1, 1000).value_or(1));
   spec.bond_exclusion = bonds.choice<BondExclusion>("exclude", {{"none", BondExclusion::None},
                                                                 {"1-2", BondExclusion::OneTwo},
                                                                 {"1-3", BondExclusion::OneThree}})

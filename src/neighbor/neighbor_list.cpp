@@ -27,9 +27,9 @@ bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
   return moved != 0;
 }
 
-void NeighborList::build(ParticleData& p, const Box& box) {
+void NeighborList::build(ParticleData& p, const Box& box, ParticleData::Forces forces) {
   set_grid(box);
-  sort_locals(p);
+  sort_locals(p, forces);
   finish(p, box);
 }
 
@@ -44,7 +44,7 @@ void NeighborList::set_grid(const Box& box, const CellDomain& domain) {
   decomposed_ = grid_.owned_dims() != grid_.dims();
 }
 
-void NeighborList::sort_locals(ParticleData& p) {
+void NeighborList::sort_locals(ParticleData& p, ParticleData::Forces forces) {
   if (!has_grid_) throw std::logic_error("NeighborList::sort_locals before set_grid");
   if (decomposed_ && !grid_.has_half_stencil())
     throw std::logic_error("NeighborList: a decomposed box needs the half stencil");
@@ -98,10 +98,9 @@ void NeighborList::sort_locals(ParticleData& p) {
   }
   if (outside) throw std::logic_error("NeighborList: a local particle lies outside this rank's cells");
   cell_start_[owned] = static_cast<std::uint32_t>(n);
-  // Forces are not carried: the step computes every force after a build, before reading any
-  // (Simulation::step; at start-up the first build is followed by a force computation).
-  if (settings_.sort || decomposed)
-    p.permute(order_, decomposed ? n + n / 8 : 0, ParticleData::Forces::Discard);  // room for the ghosts
+  // Forces are not carried by default: the step computes every force after a build, before reading
+  // any (Simulation::step; at start-up the first build is followed by a force computation).
+  if (settings_.sort || decomposed) p.permute(order_, decomposed ? n + n / 8 : 0, forces);  // room for the ghosts
 }
 
 void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::uint32_t> ghost_count) {

@@ -28,8 +28,8 @@ class NeighborList {
 
   // Single domain: optionally sorts `p` by cell, then lists every unordered pair once whose
   // minimum-image distance is below cutoff + skin (or, in cell-pair mode, only bins and sorts).
-  // Equivalent to set_grid(box), sort_locals(p), finish(p, box).
-  void build(ParticleData& p, const Box& box);
+  // Equivalent to set_grid(box), sort_locals(p, forces), finish(p, box).
+  void build(ParticleData& p, const Box& box, ParticleData::Forces forces = ParticleData::Forces::Discard);
 
   // The phases of a build, for a caller that moves particles between ranks in between:
   // 1. set_grid: the cell grid of `box` restricted to this rank's block of cells `domain` (kept while
@@ -41,7 +41,8 @@ class NeighborList {
   //    them in cell num_owned_cells() + k; completes cell_start() and lists the pairs, rows for local
   //    particles only (partners may be ghosts).
   void set_grid(const Box& box, const CellDomain& domain = {});
-  void sort_locals(ParticleData& p);
+  // (`forces`: Keep carries the forces along, which a build normally leaves unordered.)
+  void sort_locals(ParticleData& p, ParticleData::Forces forces = ParticleData::Forces::Discard);
   void finish(ParticleData& p, const Box& box, std::span<const std::uint32_t> ghost_count = {});
 
   // Cell-pair mode: with no skin the list would be rebuilt every step anyway, so build() only bins and

@@ -233,6 +233,29 @@ TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
   ASSERT_EQ(v4.code, 0) << v4.out << v4.err;
   for (const char* file : {"checkpoint.mdpd", "thermo.csv"})
     EXPECT_EQ(read_all(dir / "v4" / file), read_all(dir / "v1" / file)) << file << " differs with Verlet lists";
+  // Multiple time stepping: the inner steps refresh the ghosts' positions; same bits on 1 rank and on
+  // 4 ranks x 1 or 2 threads, also after a restart from a 2-rank checkpoint.
+  write(dir / "s1.toml", bonds_config(""));
+  write(dir / "s2.toml", bonds_config(grid_table(2, 1, 1)));
+  write(dir / "s4.toml", bonds_config(grid_table(2, 2, 1)));
+  for (const char* f : {"s1.toml", "s2.toml", "s4.toml"}) {
+    std::string text = read_all(dir / f);
+    text.replace(text.find("reach = 2.0"), 11, "reach = 2.0\nsubcycles = 3");
+    write(dir / f, text);
+  }
+  ASSERT_EQ(mpirun(dir, 1, "run s1.toml --out s1").code, 0);
+  const Result s4 = mpirun(dir, 4, "run s4.toml --out s4");
+  ASSERT_EQ(s4.code, 0) << s4.out << s4.err;
+  const Result s4t = mpirun(dir, 4, "run s4.toml --out s4t", 2);
+  ASSERT_EQ(s4t.code, 0) << s4t.out << s4t.err;
+  ASSERT_EQ(mpirun(dir, 2, "run s2.toml --out s2half --steps 60").code, 0);
+  fs::copy_file(dir / "s2half" / "checkpoint.mdpd", dir / "s60.mdpd");
+  const Result s4r = mpirun(dir, 4, "run s4.toml --out s2half --restart s60.mdpd");
+  ASSERT_EQ(s4r.code, 0) << s4r.out << s4r.err;
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv"})
+    for (const char* other : {"s4", "s4t", "s2half"})
+      EXPECT_TRUE(read_all(dir / other / file) == read_all(dir / "s1" / file)) << file << " differs in " << other;
+  EXPECT_FALSE(read_all(dir / "s1" / "checkpoint.mdpd") == read_all(dir / "r1" / "checkpoint.mdpd"));
   // Restart: 60 steps on 2 ranks, the rest on 4, equals the uninterrupted single-rank run.
   ASSERT_EQ(mpirun(dir, 2, "run r2.toml --out a --steps 60").code, 0);
   fs::copy_file(dir / "a" / "checkpoint.mdpd", dir / "a60.mdpd");

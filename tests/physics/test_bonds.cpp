@@ -15,6 +15,7 @@
 #include "engine/bonded_forces.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"
+#include "mesodpd/validate.hpp"
 #include "physics/bond_laws.hpp"
 #include "test_support.hpp"
 
@@ -669,6 +670,182 @@ progress = false
     EXPECT_NEAR(m.mean, expect, 4 * m.error + 0.002) << "bin " << b;
     std::printf("  cos theta in [%5.2f, %5.2f): %.4f +- %.4f (Boltzmann %.4f)\n", lo, hi, m.mean, m.error, expect);
   }
+}
+
+
+// --- multiple time stepping (bonds.subcycles) ------------------------------------------------------
+
+// Stiff chains (harmonic k = 1000, r0 = 0.5: the fastest chain mode has omega ~ 2 sqrt(2k) ~ 90, so
+// omega dt ~ 3.6 at dt = 0.04, beyond velocity Verlet's limit of 2) in a solvent.
+std::string stiff_config(double dt, int subcycles) {
+  return fmt::format(R"(
+[system]
+box = [6.0, 6.0, 6.0]
+kT = 1.0
+seed = 7
+
+[[species]]
+name = "A"
+
+[[species]]
+name = "W"
+density = 2.2
+
+[pair]
+a = 25.0
+gamma = 4.5
+
+[[bond_type]]
+name = "stiff"
+style = "harmonic"
+k = 1000.0
+r0 = 0.5
+
+[[molecule]]
+name = "chain"
+sequence = "A10"
+bond_type = "stiff"
+count = 16
+bond_length = 0.5
+
+[bonds]
+subcycles = {1}
+
+[integrator]
+dt = {0}
+
+[run]
+steps = 100000
+
+[output]
+thermo_every = 100000
+progress = false
+)",
+                     dt, subcycles);
+}
+
+struct StiffStats {
+  MeanError temperature, bond, bond_sd;
+};
+
+// Runs `time` time units after 10 of equilibration, sampling every 0.2: kinetic temperature, mean
+// bond length and the standard deviation of the bond length.
+StiffStats run_stiff(double dt, int subcycles, double time) {
+  Simulation sim(parse_config(stiff_config(dt, subcycles), "stiff.toml"), RunOptions{});
+  const auto skip = static_cast<int>(std::lround(10.0 / dt)), steps = static_cast<int>(std::lround(time / dt));
+  const auto every = static_cast<int>(std::lround(0.2 / dt));
+  const double L = 6.0;
+  std::vector<double> t_series, b_series, sd_series;
+  for (int s = 1; s <= skip + steps; ++s) {
+    sim.step();
+    if (s <= skip || s % every != 0) continue;
+    const ParticleData& p = sim.particles();
+    std::vector<std::array<double, 3>> r(p.n_local + 1);
+    double ke = 0;
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      r[p.id[i]] = {p.x[i] + p.ix[i] * L, p.y[i] + p.iy[i] * L, p.z[i] + p.iz[i] * L};
+      ke += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+    }
+    t_series.push_back(ke / (3.0 * static_cast<double>(p.n_local) - 3.0));
+    double sum = 0, sum2 = 0;
+    for (const Bond& b : sim.topology().bonds) {
+      double d2 = 0;
+      for (int d = 0; d < 3; ++d) d2 += std::pow(r[b.a][d] - r[b.b][d], 2);
+      sum += std::sqrt(d2);
+      sum2 += d2;
+    }
+    const double nb = static_cast<double>(sim.topology().bonds.size());
+    b_series.push_back(sum / nb);
+    sd_series.push_back(std::sqrt(std::max(0.0, sum2 / nb - (sum / nb) * (sum / nb))));
+  }
+  return {blocks(t_series), blocks(b_series), blocks(sd_series)};
+}
+
+// The issue's test of multiple time stepping: a chain too stiff for dt = 0.04 with one step per bond
+// evaluation blows up; with 10 inner steps it runs stably with the temperature and bond-length
+// distribution of a reference at dt = 0.004.
+TEST(Subcycling, StiffChainUnstableAtDt004RunsWithInnerStepsLikeASmallStepReference) {
+  {
+    Simulation sim(parse_config(stiff_config(0.04, 1), "stiff.toml"), RunOptions{});
+    bool blew_up = false;
+    try {
+      for (int s = 0; s < 1000; ++s) sim.step();
+    } catch (const BlowUpError&) {
+      blew_up = true;
+    }
+    EXPECT_TRUE(blew_up) << "dt = 0.04 without subcycles should be unstable for k = 1000";
+  }
+  const StiffStats mts = run_stiff(0.04, 10, 60.0);
+  const StiffStats ref = run_stiff(0.004, 1, 30.0);
+  std::printf("stiff chains k = 1000: dt = 0.04 x 10 inner steps: T = %.4f +- %.4f, <b> = %.5f +- %.5f, sd(b) = %.5f +- "
+              "%.5f; dt = 0.004: T = %.4f +- %.4f, <b> = %.5f +- %.5f, sd(b) = %.5f +- %.5f\n",
+              mts.temperature.mean, mts.temperature.error, mts.bond.mean, mts.bond.error, mts.bond_sd.mean,
+              mts.bond_sd.error, ref.temperature.mean, ref.temperature.error, ref.bond.mean, ref.bond.error,
+              ref.bond_sd.mean, ref.bond_sd.error);
+  // Standard DPD at dt = 0.04 runs 1-3% hot (seed 000 Sect. 2.5.2); the bonds must add nothing visible.
+  EXPECT_NEAR(mts.temperature.mean, ref.temperature.mean, 0.035);
+  const double eb = std::hypot(mts.bond.error, ref.bond.error), es = std::hypot(mts.bond_sd.error, ref.bond_sd.error);
+  EXPECT_NEAR(mts.bond.mean, ref.bond.mean, 4 * eb + 0.002);
+  // The width of the bond-length distribution (sqrt(kT/k) ~ 0.032) within 5%.
+  EXPECT_NEAR(mts.bond_sd.mean / ref.bond_sd.mean, 1.0, 0.05 + 4 * es / ref.bond_sd.mean);
+}
+
+TEST(Subcycling, ThreadsAndRestartGiveTheSameBits) {
+  SimulationSpec spec = chains_spec("[bonds]\nsubcycles = 4\nexclude = \"1-2\"\n");
+  ASSERT_EQ(spec.bond_subcycles, 4);
+  EXPECT_EQ(positions_after(spec, 1, 60), positions_after(spec, 2, 60));
+  // Subcycling changes the trajectory (the test above would be empty otherwise).
+  SimulationSpec one = spec;
+  one.bond_subcycles = 1;
+  EXPECT_NE(positions_after(spec, 1, 20), positions_after(one, 1, 20));
+  const fs::path dir = fs::temp_directory_path() / "mesodpd_test_subcycling_restart";
+  fs::remove_all(dir);
+  {
+    RunOptions o;
+    o.out_dir = dir / "whole";
+    o.steps = 60;
+    Simulation(spec, o).run();
+  }
+  {
+    RunOptions o;
+    o.out_dir = dir / "part";
+    o.steps = 30;
+    Simulation(spec, o).run();
+  }
+  {
+    RunOptions o;
+    o.out_dir = dir / "part";
+    o.steps = 60;
+    o.restart = dir / "part" / "checkpoint30.mdpd";
+    fs::copy_file(dir / "part" / "checkpoint.mdpd", o.restart);
+    Simulation(spec, o).run();
+  }
+  EXPECT_TRUE(test::read_file(dir / "whole" / "checkpoint.mdpd") == test::read_file(dir / "part" / "checkpoint.mdpd"));
+  EXPECT_EQ(test::read_file(dir / "whole" / "thermo.csv"), test::read_file(dir / "part" / "thermo.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Subcycling, ConfigErrorsNameTheKey) {
+  auto error = [](const std::string& extra) {
+    try {
+      chains_spec(extra);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string m = error("[bonds]\nsubcycles = 0\n");
+  EXPECT_NE(m.find("bonds.subcycles"), std::string::npos) << m;
+  SimulationSpec spec = chains_spec("[bonds]\nsubcycles = 4\n");
+  spec.integrator = IntegratorKind::Euler;
+  try {
+    validate(spec);
+    m = "no error";
+  } catch (const ConfigError& e) {
+    m = e.what();
+  }
+  EXPECT_NE(m.find("bonds.subcycles"), std::string::npos) << m;
+  EXPECT_NE(m.find("euler"), std::string::npos) << m;
 }
 
 }  // namespace
