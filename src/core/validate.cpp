@@ -792,6 +792,16 @@ void validate_walls(SimulationSpec& spec) {
   check("walls.reference_area", w.reference_area, kNonNegative);
   check("walls.viscosity", w.viscosity, kNonNegative);
   if (w.depth == 0) w.depth = largest_cutoff(spec);
+  check_between("walls.adaptive_bins", w.adaptive_bins, 1, 1000);
+  check("walls.adaptive_range", w.adaptive_range, kNonNegative);
+  check("walls.adaptive_gain", w.adaptive_gain, Range{0.0, 2.0, false, true});
+  check_at_least("walls.adaptive_every", w.adaptive_every, 1);
+  if (w.adaptive_range == 0) w.adaptive_range = largest_cutoff(spec);
+  if (w.adaptive && w.adaptive_range <= w.layer)
+    fail("walls.adaptive_range", show(w.adaptive_range),
+         fmt::format("must exceed walls.layer = {} (the force acts between the reflecting layer and the range)", w.layer));
+  if (w.adaptive && spec.solids.empty())
+    fail("walls.adaptive", "true", "an adaptive near-wall force needs [[solid]] walls");
   bool any_mobile = false;
   for (std::size_t k = 0; k < spec.species.size(); ++k) {
     const SpeciesSpec& sp = spec.species[k];
