@@ -561,6 +561,10 @@ void validate_topology(SimulationSpec& spec) {
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
            "multiple time stepping splits the Groot-Warren (velocity-Verlet) step; it is not available with "
            "integrator.type = \"euler\"");
+    if (!spec.solids.empty())
+      fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
+           "not available with [[solid]] walls yet: the walls reflect a particle from its predicted move over a "
+           "whole step, which the inner steps would change");
     if (spec.molecules.empty() && spec.data_file.empty())
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
            "there are no bonds to subcycle: add [[molecule]] blocks or read a data file with a Bonds section");

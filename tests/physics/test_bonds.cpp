@@ -846,6 +846,7 @@ TEST(Subcycling, ConfigErrorsNameTheKey) {
   }
   EXPECT_NE(m.find("bonds.subcycles"), std::string::npos) << m;
   EXPECT_NE(m.find("euler"), std::string::npos) << m;
+
 }
 
 // --- molecules between walls ----------------------------------------------------------------------
@@ -915,6 +916,13 @@ thermo_every = 100
 progress = false
 )";
   const SimulationSpec spec = parse_config(text, "chains_in_channel.toml");
+  // Subcycled bonds are refused with walls (the reflections predict a whole step's move).
+  try {
+    parse_config(text + "\n[bonds]\nsubcycles = 4\n", "chains_in_channel.toml");
+    ADD_FAILURE() << "bonds.subcycles with walls accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("bonds.subcycles"), std::string::npos) << e.what();
+  }
   Simulation sim(spec, RunOptions{});
   ASSERT_EQ(sim.topology().bonds.size(), 12u * 11u);
   auto bead_heights = [&] {
