@@ -79,15 +79,24 @@ def main():
     ap.add_argument("--short", action="store_true")
     ap.add_argument("--a-ps", type=float, default=25.0, help="chain-solvent repulsion (larger: poorer solvent)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--steps", type=int, help="steps per run (default 6,000 with --short, else 100,000)")
+    ap.add_argument("--n", type=int, nargs="+", help="chain lengths (default 5 10 20, or 5 10 20 40)")
+    ap.add_argument("--melt", action="store_true",
+                    help="a melt instead: chains only, rho = 3 in a box of 10 (R_g ~ N^(1/2) expected)")
     a = ap.parse_args()
-    ns = [5, 10, 20] if a.short else [5, 10, 20, 40]
-    steps = 6000 if a.short else 100000
+    ns = a.n or ([5, 10, 20] if a.short else [5, 10, 20, 40])
+    steps = a.steps or (6000 if a.short else 100000)
     every = 50 if a.short else 200
     rows = []
     for n in ns:
-        box = max(8.0, 2.0 * 0.8 * n ** 0.6 + 4.0)  # several R_g across, so a chain does not meet its image
-        chains = 4 if a.short else 8
-        solvent = int(round(3.0 * box**3)) - chains * n
+        if a.melt:
+            box = 10.0
+            chains = int(round(3.0 * box**3 / n))
+            solvent = 0
+        else:
+            box = max(8.0, 2.0 * 0.8 * n ** 0.6 + 4.0)  # several R_g across, so a chain does not meet its image
+            chains = 4 if a.short else 8
+            solvent = int(round(3.0 * box**3)) - chains * n
         d = os.path.join(a.out, f"n{n}")
         os.makedirs(d, exist_ok=True)
         cfg = os.path.join(d, "config.toml")
@@ -110,7 +119,7 @@ def main():
         w = csv.writer(f)
         w.writerow(["N", "rg2", "rg2_err", "re2", "re2_err", "tau_e"])
         w.writerows(rows)
-    print(f"nu = {nu:.3f} +- {nu_err:.3f} (Flory 0.588; ideal chain 0.5)")
+    print(f"nu = {nu:.3f} +- {nu_err:.3f} ({'melt: 0.5 expected' if a.melt else 'Flory 0.588; ideal chain 0.5'})")
     import matplotlib
 
     matplotlib.use("Agg")
@@ -120,7 +129,8 @@ def main():
     ax.errorbar(n, rg, yerr=rg_err, fmt="o", label="mesodpd")
     xx = np.linspace(n.min(), n.max(), 50)
     ax.plot(xx, np.exp(c) * xx**nu, label=f"fit: $\\nu$ = {nu:.3f} $\\pm$ {nu_err:.3f}")
-    ax.plot(xx, rg[0] * (xx / n[0]) ** 0.588, "--", label="Flory 0.588")
+    ref, ref_name = (0.5, "ideal 1/2") if a.melt else (0.588, "Flory 0.588")
+    ax.plot(xx, rg[0] * (xx / n[0]) ** ref, "--", label=ref_name)
     ax.set(xscale="log", yscale="log", xlabel="N (beads)", ylabel="$R_g$")
     ax.legend()
     fig.tight_layout()

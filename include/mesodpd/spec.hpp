@@ -261,6 +261,16 @@ struct WallsSpec {
   double reference_length = 0.0;                          // [walls] reference_length: d of Re (0: none)
   double reference_area = 0.0;                             // [walls] reference_area: A of C_D (0: none)
   double viscosity = 0.0;                                  // [walls] viscosity: mu of Re (0: none)
+  // Adaptive near-wall force (seed 002 "Boundary Conditions", third category): a force along the surface
+  // normal on mobile particles between the reflecting layer and adaptive_range from a solid, from a
+  // potential held in adaptive_bins bins of the distance, adjusted every adaptive_every steps until each
+  // bin's density equals the bulk's.
+  bool adaptive = false;                 // [walls] adaptive
+  int adaptive_bins = 10;                // [walls] adaptive_bins
+  double adaptive_range = 0.0;           // [walls] adaptive_range (0: the largest cutoff)
+  double adaptive_gain = 0.5;            // [walls] adaptive_gain: U_k += gain kT ln(rho_k / rho_bulk) per update
+  std::uint64_t adaptive_every = 100;    // [walls] adaptive_every: steps per update (densities sampled every step)
+  std::uint64_t adaptive_stop = 0;       // [walls] adaptive_stop: no updates after this step (0: never stop)
 };
 
 struct SimulationSpec {

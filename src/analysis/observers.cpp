@@ -198,6 +198,14 @@ void Observers::save(ByteWriter& w) const {
     w.put_vector(section.bytes());
   }
   save_section(w, tension_);
+  // Other parts of the run by name, like the grids.
+  w.put<std::uint64_t>(opt_.sections.size());
+  for (const StateSection& s : opt_.sections) {
+    ByteWriter section;
+    s.save(section);
+    w.put_string(s.name);
+    w.put_vector(section.bytes());
+  }
   save_section(w, droplet_);
 }
 
@@ -221,6 +229,17 @@ void Observers::load(ByteReader& r, const std::string& context) {
   }
   if (r.remaining() == 0) return;  // a checkpoint from before the surface tension existed
   load_section(r, tension_, context);
+  if (r.remaining() == 0) return;  // a checkpoint from before the state sections existed
+  const auto sections = r.get<std::uint64_t>();
+  for (std::uint64_t k = 0; k < sections; ++k) {
+    const std::string name = r.get_string();
+    const std::vector<std::byte> bytes = r.get_vector<std::byte>();
+    for (const StateSection& s : opt_.sections)
+      if (s.name == name) {
+        ByteReader section(bytes, context);
+        s.load(section, context);
+      }
+  }
   if (r.remaining() == 0) return;  // a checkpoint from before the droplet analysis existed
   load_section(r, droplet_, context);
 }

@@ -43,6 +43,15 @@ struct ThermoColumn {
   std::function<double(const StepContext&)> value;
 };
 
+// State of another part of the run (walls: drag averages, adaptive force) that travels in the
+// checkpoint beside the observers' averages, by name. save() runs on the root only, so the state must
+// be the same on every rank.
+struct StateSection {
+  std::string name;
+  std::function<void(ByteWriter&)> save;
+  std::function<void(ByteReader&, const std::string& context)> load;
+};
+
 struct ObserverSettings {
   std::filesystem::path out_dir;   // empty: no files (thermo, profiles, trajectories are not kept)
   bool progress = false;           // progress bar or log lines on the root
@@ -52,6 +61,7 @@ struct ObserverSettings {
   // directory: for programs that read them through the API (the Python module) rather than from files.
   bool record = false;
   std::vector<ThermoColumn> columns;  // appended to every thermo row, in this order
+  std::vector<StateSection> sections;  // saved and restored with the observers' state
   // [analysis.droplet]: the per-particle conservative virial of a set of particles with the run's force
   // law (set by the engine), and the interaction range (pair cutoff plus density-kernel range).
   LocalVirial local_virial;

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include "core/philox.hpp"
+#include "io/byte_buffer.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
@@ -28,8 +30,7 @@ void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
 
 }  // namespace
 
-Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity, std::uint64_t first_step,
-             std::uint64_t final_step)
+Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
     : spec_(spec), geometry_(spec.solids, box), half_velocity_(half_velocity) {
   for (const auto& s : spec.species) frozen_.push_back(s.frozen ? 1 : 0);
   double mass = 0;
@@ -38,11 +39,69 @@ Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity, std
   fill_density_ = mass / box.volume();
   impulse_.assign(3 * geometry_.bodies(), 0);
   const WallsSpec& w = spec.walls;
-  const std::uint64_t from = std::max(first_step, w.drag_start);
-  samples_expected_ = final_step > from ? final_step / w.drag_every - from / w.drag_every : 0;
-  block_size_ = std::max<std::uint64_t>(1, samples_expected_ / static_cast<std::uint64_t>(w.drag_blocks));
-  block_sums_.assign(static_cast<std::size_t>(w.drag_blocks) * geometry_.bodies(), {0, 0, 0, 0, 0, 0});
-  block_counts_.assign(static_cast<std::size_t>(w.drag_blocks), 0);
+  // Blocks that do not depend on the run length, so that a restart continues them exactly.
+  drag_blocks_ = BlockRows(6 * geometry_.bodies(), static_cast<std::size_t>(w.drag_blocks));
+  drag_total_.assign(6 * geometry_.bodies(), 0.0);
+  if (w.adaptive) {
+    // Bins per solid (each has its own frozen structure and curvature), then the bulk.
+    const std::size_t bins = static_cast<std::size_t>(w.adaptive_bins) * geometry_.bodies();
+    bin_width_ = (w.adaptive_range - w.layer) / static_cast<double>(w.adaptive_bins);
+    potential_.assign(bins, 0.0);
+    segment_force_.assign(bins, 0.0);
+    bin_counts_.assign(bins + 1, 0);
+    // The fluid volume of each bin and of the bulk, from a fixed low-discrepancy point set (the R2
+    // sequence) over the box: the same numbers on every rank, for any solid.
+    constexpr std::uint64_t points = std::uint64_t{1} << 21;
+    constexpr double g = 1.2207440846057596;  // the real root of x^4 = x + 1
+    const double step[3] = {1 / g, 1 / (g * g), 1 / (g * g * g)};
+    std::vector<std::uint64_t> hits(bins + 1, 0);
+#pragma omp parallel
+    {
+      std::vector<std::uint64_t> mine(bins + 1, 0);
+#pragma omp for schedule(static)
+      for (std::uint64_t k = 0; k < points; ++k) {
+        double q[3];
+        for (int a = 0; a < 3; ++a) {
+          const double t = 0.5 + static_cast<double>(k) * step[a];
+          q[a] = (t - std::floor(t)) * box.length(a);
+        }
+        int b = -1;
+        const double d = geometry_.sdf(Vec3{q[0], q[1], q[2]}, b);
+        const int bin = adaptive_bin(d, b);
+        if (bin >= 0) ++mine[static_cast<std::size_t>(bin)];
+      }
+#pragma omp critical
+      for (std::size_t k = 0; k <= bins; ++k) hits[k] += mine[k];
+    }
+    for (std::uint64_t h : hits) bin_volume_.push_back(static_cast<double>(h) / static_cast<double>(points) * box.volume());
+  }
+}
+
+void Walls::update_segment_forces() {
+  // Nodes at the bin centres c_k = layer + (k + 1/2) h with U_k, and at the range with U = 0; segment k
+  // runs from c_k to the next node (the last one h/2 long), and the part of bin 0 below c_0 continues
+  // segment 0.
+  const std::size_t n = static_cast<std::size_t>(spec_.walls.adaptive_bins);
+  for (std::size_t at = 0; at < potential_.size(); at += n)
+    for (std::size_t k = 0; k < n; ++k) {
+      const double next = k + 1 < n ? potential_[at + k + 1] : 0.0;
+      const double length = k + 1 < n ? bin_width_ : 0.5 * bin_width_;
+      segment_force_[at + k] = -(next - potential_[at + k]) / length;
+    }
+}
+
+double Walls::adaptive_force_at(double d, int body) const {
+  const WallsSpec& w = spec_.walls;
+  if (!(d >= w.layer) || d >= w.adaptive_range || body < 0) return 0.0;
+  const int k = std::clamp(static_cast<int>(std::floor((d - w.layer) / bin_width_ - 0.5)), 0, w.adaptive_bins - 1);
+  return segment_force_[static_cast<std::size_t>(body * w.adaptive_bins + k)];
+}
+
+int Walls::adaptive_bin(double d, int body) const {
+  const WallsSpec& w = spec_.walls;
+  if (!(d >= w.layer) || body < 0) return -1;
+  if (d >= w.adaptive_range) return static_cast<int>(potential_.size());
+  return body * w.adaptive_bins + std::min(w.adaptive_bins - 1, static_cast<int>((d - w.layer) / bin_width_));
 }
 
 void Walls::set_output(const std::filesystem::path& out_dir, bool restarted, const Comm& comm) {
@@ -57,6 +116,15 @@ void Walls::set_output(const std::filesystem::path& out_dir, bool restarted, con
     f << "step";
     for (const auto& s : spec_.solids) f << fmt::format(",{0}_fx,{0}_fy,{0}_fz", s.name);
     f << ",fluid_vx,fluid_vy,fluid_vz\n";
+    if (!spec_.walls.adaptive) return;
+    const auto apath = out_dir_ / "adaptive.csv";
+    std::ofstream a(apath, std::ios::trunc);
+    if (!a) throw ConfigError(fmt::format("{}: cannot open for writing", apath.string()));
+    a << "step";
+    for (const char* what : {"U", "rho"})
+      for (const auto& s : spec_.solids)
+        for (int k = 0; k < spec_.walls.adaptive_bins; ++k) a << fmt::format(",{}_{}{}", s.name, what, k);
+    a << "\n";
   });
 }
 
@@ -90,7 +158,7 @@ void Walls::for_near_wall(StepContext& ctx, double below, Act&& act) {
 #pragma omp parallel
   {
     std::vector<std::int64_t> impulse(3 * nb, 0);
-    std::uint64_t count = 0;
+    std::array<std::uint64_t, 2> count{0, 0};
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
@@ -109,7 +177,8 @@ void Walls::for_near_wall(StepContext& ctx, double below, Act&& act) {
 #pragma omp critical
     {
       for (std::size_t k = 0; k < impulse.size(); ++k) impulse_[k] += impulse[k];  // integers: order-free
-      counted_ += count;
+      counted_[0] += count[0];
+      counted_[1] += count[1];
     }
   }
 }
@@ -118,11 +187,11 @@ void Walls::mirror_positions(StepContext& ctx) {
   std::fill(impulse_.begin(), impulse_.end(), 0);
   ParticleData& p = ctx.particles;
   const Box& box = ctx.box;
-  counted_ = 0;
-  for_near_wall(ctx, 0.0, [&](std::size_t i, Vec3 r, double d, int b, double m, std::uint64_t& count) {
+  counted_ = {0, 0};
+  for_near_wall(ctx, 0.0, [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
     // Inside the solid: mirror the position through the surface; where the mirror image is still inside
     // (a concave corner, a staircase image surface), step out along the normal.
-    ++count;
+    ++count[0];
     const Vec3 nrm = geometry_.normal(r, b);
     r = r - 2.0 * d * nrm;
     for (int tries = 0; tries < 8; ++tries) {
@@ -156,27 +225,64 @@ void Walls::mirror_positions(StepContext& ctx) {
     }
     return dv;
   });
-  penetrations_ += counted_;
-  penetrations_total_ += counted_;
+  penetrations_ += counted_[0];
+  penetrations_total_ += counted_[0];
 }
 
 void Walls::reflect_velocities(StepContext& ctx) {
   if (spec_.walls.reflection == ReflectionKind::None) return;
   ParticleData& p = ctx.particles;
-  counted_ = 0;
-  for_near_wall(ctx, spec_.walls.layer, [&](std::size_t i, Vec3 r, double, int b, double m, std::uint64_t& count) {
-    const Vec3 nrm = geometry_.normal(r, b);
-    const auto& wv = spec_.solids[static_cast<std::size_t>(b)].velocity;
-    const Vec3 u{p.vx[i] - wv[0], p.vy[i] - wv[1], p.vz[i] - wv[2]};
-    if (!(dot(u, nrm) < 0)) return Vec3{0, 0, 0};
-    ++count;
-    const Vec3 dv = reflected(u, nrm, m, ctx.step, p.id[i]) - u;
-    p.vx[i] += dv.x;
-    p.vy[i] += dv.y;
-    p.vz[i] += dv.z;
+  const double dt = ctx.dt;
+  // The next position update moves a particle by dt v + (dt^2 / 2) f / m (modified velocity-Verlet) or
+  // dt v (Euler), with this step's velocity and force: both are final here, so the move is known.
+  const double kick = half_velocity_ ? 0.5 * dt * dt : 0.0;
+  const double layer = spec_.walls.layer;
+  counted_ = {0, 0};
+  for_near_wall(ctx, std::numeric_limits<double>::infinity(),
+                [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
+    const Vec3 f{p.fx[i], p.fy[i], p.fz[i]};
+    const Vec3 v0{p.vx[i], p.vy[i], p.vz[i]};
+    auto move = [&](const Vec3& v) { return dt * v + (kick / m) * f; };
+    // Where the next move would end inside a solid (the signed distance changes by at most the length
+    // of the move: a far particle needs no second look), the solid it would enter decides.
+    auto entered = [&](const Vec3& v, double& depth) {
+      const Vec3 s = move(v);
+      if (d >= layer + 2.0 * std::sqrt(dot(s, s))) return -1;
+      int b2 = -1;
+      depth = geometry_.sdf(r + s, b2);
+      return depth < 0 ? b2 : -1;
+    };
+    double depth = 0;
+    int hit = entered(v0, depth);
+    if (hit < 0 && d >= layer) return Vec3{0, 0, 0};
+    if (hit < 0) hit = b;
+    Vec3 v = v0;
+    // The walls.reflection rule for a particle in the layer, or about to cross the surface, moving
+    // into the solid relative to the wall (seed 000 Sect. 3.2.1).
+    const Vec3 nrm = geometry_.normal(r, hit);
+    const auto& wv = spec_.solids[static_cast<std::size_t>(hit)].velocity;
+    const Vec3 w{wv[0], wv[1], wv[2]};
+    if (dot(v - w, nrm) < 0) {
+      ++count[0];
+      v = reflected(v - w, nrm, m, ctx.step, p.id[i]) + w;
+    }
+    // A reflected (or outgoing) particle that the force kick alone would still carry in: the solid is
+    // impenetrable, so it takes the normal momentum that stops the move on its surface (rare: a large
+    // random force on a particle within a few hundredths of the surface).
+    for (int tries = 0; tries < 4; ++tries) {
+      const int into = entered(v, depth);
+      if (into < 0) break;
+      v = v + (-depth / dt * (1 + 1e-9) + 1e-12) * geometry_.normal(r, into);
+      ++count[1];
+    }
+    const Vec3 dv = v - v0;
+    p.vx[i] = v.x;
+    p.vy[i] = v.y;
+    p.vz[i] = v.z;
     return dv;
   });
-  reflections_ += counted_;
+  reflections_ += counted_[0];
+  pushes_ += counted_[1];
 }
 
 std::array<std::uint64_t, 2> Walls::take_counts(const Comm& comm) {
@@ -186,10 +292,10 @@ std::array<std::uint64_t, 2> Walls::take_counts(const Comm& comm) {
   return {c[0], c[1]};
 }
 
-std::uint64_t Walls::total_penetrations(const Comm& comm) const {
-  std::uint64_t c[1] = {penetrations_total_};
-  comm.sum(std::span<std::uint64_t>(c, 1));
-  return c[0];
+std::array<std::uint64_t, 2> Walls::totals(const Comm& comm) const {
+  std::uint64_t c[2] = {penetrations_total_, pushes_};
+  comm.sum(std::span<std::uint64_t>(c, 2));
+  return {c[0], c[1]};
 }
 
 void Walls::sample_drag(StepContext& ctx) {
@@ -207,6 +313,19 @@ void Walls::sample_drag(StepContext& ctx) {
       q[3 * b + 1] += fixed(p.fy[i]);
       q[3 * b + 2] += fixed(p.fz[i]);
     } else if (!frozen_[static_cast<std::size_t>(p.species[i])]) {
+      if (!potential_.empty()) {
+        // The adaptive force of this step on the particle, taken back from its solid.
+        int b = -1;
+        const Vec3 r{p.x[i], p.y[i], p.z[i]};
+        const double d = geometry_.sdf(r, b);
+    const double fa = adaptive_force_at(d, b);
+        if (fa != 0) {
+          const Vec3 f = fa * geometry_.normal(r, b);
+          q[3 * static_cast<std::size_t>(b)] -= fixed(f.x);
+          q[3 * static_cast<std::size_t>(b) + 1] -= fixed(f.y);
+          q[3 * static_cast<std::size_t>(b) + 2] -= fixed(f.z);
+        }
+      }
       const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
       q[3 * nb] += fixed(m * p.vx[i]);
       q[3 * nb + 1] += fixed(m * p.vy[i]);
@@ -218,16 +337,15 @@ void Walls::sample_drag(StepContext& ctx) {
   const double mass = static_cast<double>(q[3 * nb + 3]);
   const double u[3] = {static_cast<double>(q[3 * nb]) / mass, static_cast<double>(q[3 * nb + 1]) / mass,
                        static_cast<double>(q[3 * nb + 2]) / mass};
-  const std::size_t block =
-      std::min<std::size_t>(static_cast<std::size_t>(samples_ / block_size_), block_counts_.size() - 1);
-  for (std::size_t b = 0; b < nb; ++b) {
-    auto& s = block_sums_[block * nb + b];
-    for (int c = 0; c < 3; ++c) {
-      s[static_cast<std::size_t>(c)] += static_cast<double>(q[3 * b + static_cast<std::size_t>(c)]) / kFixed;
-      s[3 + static_cast<std::size_t>(c)] += u[c];
+  // Per body the three force components, then the fluid velocity (the same for every body).
+  std::vector<double> row(6 * nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    for (std::size_t c = 0; c < 3; ++c) {
+      row[6 * b + c] = static_cast<double>(q[3 * b + c]) / kFixed;
+      row[6 * b + 3 + c] = u[c];
     }
-  }
-  ++block_counts_[block];
+  drag_blocks_.add(row.data());
+  for (std::size_t k = 0; k < row.size(); ++k) drag_total_[k] += row[k];
   ++samples_;
   if (!out_dir_.empty() && ctx.comm.root()) {
     std::ofstream f(out_dir_ / "drag.csv", std::ios::app);
@@ -235,6 +353,111 @@ void Walls::sample_drag(StepContext& ctx) {
     for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
     f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
   }
+}
+
+void Walls::add_adaptive_force(StepContext& ctx) {
+  if (std::all_of(segment_force_.begin(), segment_force_.end(), [](double f) { return f == 0; })) return;
+  ParticleData& p = ctx.particles;
+  const std::size_t n = p.n_local;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
+    const Vec3 r{p.x[i], p.y[i], p.z[i]};
+    int b = -1;
+    const double d = geometry_.sdf(r, b);
+    const double fa = adaptive_force_at(d, b);
+    if (fa == 0) continue;
+    const Vec3 f = fa * geometry_.normal(r, b);
+    p.fx[i] += f.x;
+    p.fy[i] += f.y;
+    p.fz[i] += f.z;
+  }
+}
+
+void Walls::adapt(StepContext& ctx) {
+  const WallsSpec& w = spec_.walls;
+  if (!w.adaptive || (w.adaptive_stop > 0 && ctx.step > w.adaptive_stop)) return;
+  const ParticleData& p = ctx.particles;
+  const std::size_t n = p.n_local, bins = potential_.size();
+  std::vector<std::uint64_t> counts(bins + 1, 0);
+#pragma omp parallel
+  {
+    std::vector<std::uint64_t> mine(bins + 1, 0);
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
+      int b = -1;
+      const double d = geometry_.sdf(Vec3{p.x[i], p.y[i], p.z[i]}, b);
+      const int k = adaptive_bin(d, b);
+      if (k >= 0) ++mine[static_cast<std::size_t>(k)];
+    }
+#pragma omp critical
+    for (std::size_t k = 0; k <= bins; ++k) counts[k] += mine[k];
+  }
+  ctx.comm.sum(std::span<std::uint64_t>(counts));
+  for (std::size_t k = 0; k <= bins; ++k) bin_counts_[k] += counts[k];
+  ++bin_samples_;
+  if (ctx.step % w.adaptive_every != 0) return;
+  // Proportional control of each bin's density towards the bulk's, on the bin's potential (seed 002: a
+  // bin denser than desired gets a stronger push away from the wall, a thinner one a weaker push or a
+  // pull). The step gain kT ln(rho_k / rho_bulk) is the whole correction for an ideal gas, which fills
+  // the bins as exp(-U_k / kT); a dense fluid responds less, so gain <= 1 converges without overshoot.
+  if (bin_counts_[bins] > 0 && bin_volume_[bins] > 0) {
+    const double bulk = static_cast<double>(bin_counts_[bins]) / bin_volume_[bins];
+    ratio_.assign(bins, 1.0);
+    for (std::size_t k = 0; k < bins; ++k) {
+      if (bin_volume_[k] <= 0 || bin_counts_[k] == 0) continue;
+      ratio_[k] = static_cast<double>(bin_counts_[k]) / bin_volume_[k] / bulk;
+      potential_[k] += w.adaptive_gain * spec_.kT * std::log(ratio_[k]);
+    }
+    update_segment_forces();
+    if (!out_dir_.empty() && ctx.comm.root()) {
+      std::ofstream f(out_dir_ / "adaptive.csv", std::ios::app);
+      f << ctx.step;
+      for (double x : potential_) f << fmt::format(",{:.8g}", x);
+      for (double x : ratio_) f << fmt::format(",{:.6g}", x);
+      f << "\n";
+    }
+  }
+  std::fill(bin_counts_.begin(), bin_counts_.end(), 0);
+  bin_samples_ = 0;
+}
+
+void Walls::save(ByteWriter& w) const {
+  w.put<std::uint64_t>(geometry_.bodies());
+  w.put<std::uint64_t>(samples_);
+  w.put_vector(drag_total_);
+  drag_blocks_.save(w);
+  w.put_vector(potential_);
+  w.put_vector(bin_counts_);
+  w.put<std::uint64_t>(bin_samples_);
+  w.put_vector(ratio_);
+}
+
+void Walls::load(ByteReader& r, const std::string& context) {
+  const auto bodies = r.get<std::uint64_t>();
+  if (bodies != geometry_.bodies())
+    throw ConfigError(fmt::format("{}: the checkpoint's walls have {} solids, the config {} ([[solid]])", context,
+                                  bodies, geometry_.bodies()));
+  samples_ = r.get<std::uint64_t>();
+  drag_total_ = r.get_vector<double>();
+  if (drag_total_.size() != 6 * bodies) throw ConfigError(fmt::format("{}: damaged walls section", context));
+  drag_blocks_.load(r, context + " (walls.drag_blocks)");
+  std::vector<double> force = r.get_vector<double>();
+  std::vector<std::uint64_t> bin_counts = r.get_vector<std::uint64_t>();
+  const auto bin_samples = r.get<std::uint64_t>();
+  std::vector<double> ratio = r.get_vector<double>();
+  // A run that turns the adaptive force on at a restart starts it afresh; a changed bin count is refused.
+  if (!spec_.walls.adaptive || force.empty()) return;
+  if (force.size() != potential_.size() || bin_counts.size() != bin_counts_.size())
+    throw ConfigError(fmt::format("{}: the checkpoint's adaptive wall force has {} bins in all, this run {} "
+                                  "(walls.adaptive_bins per [[solid]])",
+                                  context, force.size(), potential_.size()));
+  potential_ = std::move(force);
+  update_segment_forces();
+  bin_counts_ = std::move(bin_counts);
+  bin_samples_ = bin_samples;
+  ratio_ = std::move(ratio);
 }
 
 std::vector<DragResult> Walls::drag() const {
@@ -246,18 +469,16 @@ std::vector<DragResult> Walls::drag() const {
     r.name = spec_.solids[b].name;
     r.samples = samples_;
     if (samples_ == 0) continue;
+    // The mean over all samples; the error bar from the full blocks.
     std::vector<std::array<double, 6>> means;
     std::array<double, 6> total{0, 0, 0, 0, 0, 0};
-    for (std::size_t k = 0; k < block_counts_.size(); ++k) {
-      if (block_counts_[k] == 0) continue;
+    for (std::size_t k = 0; k < drag_blocks_.full_blocks(); ++k) {
       std::array<double, 6> m{};
-      for (std::size_t c = 0; c < 6; ++c) {
-        m[c] = block_sums_[k * nb + b][c] / static_cast<double>(block_counts_[k]);
-        total[c] += block_sums_[k * nb + b][c];
-      }
+      for (std::size_t c = 0; c < 6; ++c)
+        m[c] = drag_blocks_.block(k)[6 * b + c] / static_cast<double>(drag_blocks_.samples_per_block());
       means.push_back(m);
     }
-    for (std::size_t c = 0; c < 6; ++c) total[c] /= static_cast<double>(samples_);
+    for (std::size_t c = 0; c < 6; ++c) total[c] = drag_total_[6 * b + c] / static_cast<double>(samples_);
     const double nblk = static_cast<double>(means.size());
     auto block_error = [&](auto value) {
       if (means.size() < 2) return 0.0;
@@ -290,9 +511,10 @@ std::vector<DragResult> Walls::drag() const {
 }
 
 std::string Walls::finish(const Comm& comm, const std::filesystem::path& out_dir) const {
-  const std::uint64_t pen = total_penetrations(comm);
+  const auto [pen, pushes] = totals(comm);
   const std::vector<DragResult> results = drag();
-  std::string summary = fmt::format("walls: {} penetrations of a solid during the run\n", pen);
+  std::string summary = fmt::format(
+      "walls: {} penetrations of a solid during the run ({} force kicks stopped at a surface)\n", pen, pushes);
   for (const DragResult& r : results)
     summary += fmt::format("drag on {}: ({:.5g} +- {:.2g}, {:.5g} +- {:.2g}, {:.5g} +- {:.2g}) over {} samples{}\n", r.name,
                            r.force[0], r.error[0], r.force[1], r.error[1], r.force[2], r.error[2], r.samples,

@@ -9,12 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "analysis/block_rows.hpp"
 #include "boundary/geometry.hpp"
 #include "core/stage.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
 
+class ByteReader;
+class ByteWriter;
 class Comm;
 
 // The time-averaged drag on one body. Forces are those the fluid exerts on the body: pair forces on its
@@ -33,24 +36,53 @@ class Walls {
  public:
   // `half_velocity`: the integrator keeps the physical velocity in p.h{x,y,z} between its two halves
   // (modified velocity-Verlet) and p.v is the predicted one; false for Euler (p.v only).
-  Walls(const SimulationSpec& spec, const Box& box, bool half_velocity, std::uint64_t first_step,
-        std::uint64_t final_step);
+  Walls(const SimulationSpec& spec, const Box& box, bool half_velocity);
 
   // AfterFirstHalf: every mobile particle found inside a solid (a penetration) is mirrored out through
   // the surface, and its velocity gets the walls.reflection rule if it points into the solid.
   void mirror_positions(StepContext& ctx);
-  // AfterSecondHalf: every mobile particle within walls.layer of a surface whose velocity relative to
-  // the wall points into the solid gets the walls.reflection rule (specular, bounce-back, or Maxwellian
-  // at kT and the wall velocity; seed 000 Sect. 3.2.1). Acting on the end-of-step velocity, the one the
-  // next position update uses, it turns particles back before they reach the surface.
+  // AfterSecondHalf: every mobile particle within walls.layer of a surface, or whose next position
+  // update would end inside a solid, and whose velocity relative to the wall points into the solid gets
+  // the walls.reflection rule (specular, bounce-back, or Maxwellian at kT and the wall velocity; seed 000
+  // Sect. 3.2.1). The next move is known here (this step's velocity and force), so a fast particle
+  // outside the layer (|v| dt can exceed walls.layer) is turned back too; one that the force kick alone
+  // would still carry in gets the normal velocity that stops its move on the surface (a "push"). The
+  // simulation also applies this to the initial state. No particle then crosses a surface, and
+  // mirror_positions finds nothing.
   void reflect_velocities(StepContext& ctx);
   // EndOfStep: a drag sample when due (collective), appended to drag.csv on the root if `out` is set.
   void sample_drag(StepContext& ctx);
 
+  // Adaptive near-wall force (walls.adaptive; seed 002 "Boundary Conditions", third category). The
+  // distance from the nearest surface between walls.layer and walls.adaptive_range is cut into
+  // walls.adaptive_bins bins of width h, each with a potential U_k (0 beyond the range); a mobile
+  // particle at distance d feels minus the slope of the piecewise-linear U through the bin centres,
+  // along the surface normal, and the solid feels the opposite force (it enters the drag). The
+  // reflecting layer itself is left alone: its density is set by the reflections (a particle that
+  // enters it moving in is turned back), which no force can change.
+  // Forces stage: adds f_k n to every local mobile particle in range; a function of the positions only.
+  void add_adaptive_force(StepContext& ctx);
+  // EndOfStep (collective): counts the mobile particles per bin and in the bulk (beyond the range) at
+  // every step up to walls.adaptive_stop; every walls.adaptive_every steps the controller sets
+  //   U_k += gain kT ln(rho_k / rho_bulk)
+  // from the counts over those steps (integer sums over ranks, so every rank computes the same U), and
+  // the root appends the step, U_k and rho_k / rho_bulk to adaptive.csv.
+  void adapt(StepContext& ctx);
+  bool adaptive() const { return spec_.walls.adaptive; }
+  const std::vector<double>& adaptive_potential() const { return potential_; }
+  // The adaptive force along the outward normal at signed distance d from `body` (0 outside the bins).
+  double adaptive_force_at(double d, int body) const;
+  // rho_k / rho_bulk at the last update, bins of solid 0 first (empty before the first update).
+  const std::vector<double>& adaptive_density() const { return ratio_; }
+
+  // Checkpoint section: the drag averages and the adaptive force's state (the same on every rank).
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
+
   // Reflections and penetrations since the previous call, summed over ranks (collective).
   std::array<std::uint64_t, 2> take_counts(const Comm& comm);
-  // Penetrations since the start of this run, summed over ranks (collective).
-  std::uint64_t total_penetrations(const Comm& comm) const;
+  // Penetrations and pushes since the start of this run, summed over ranks (collective).
+  std::array<std::uint64_t, 2> totals(const Comm& comm) const;
   // Block-averaged drag per body (the same on every rank).
   std::vector<DragResult> drag() const;
   // Writes drag_summary.csv (root) and returns summary lines.
@@ -60,8 +92,12 @@ class Walls {
   void set_output(const std::filesystem::path& out_dir, bool restarted, const Comm& comm);
 
  private:
+  // The adaptive bin of a point at signed distance d from solid `body`: body * bins + (0 .. bins-1)
+  // from the layer to the range, bodies * bins (the bulk) beyond it, -1 in the layer or inside a solid.
+  int adaptive_bin(double d, int body) const;
+  void update_segment_forces();
   Vec3 reflected(const Vec3& u, const Vec3& nrm, double m, std::uint64_t step, std::uint32_t id) const;
-  // Calls act(i, r, d, body, mass, count) for every mobile local particle with signed distance d < below
+  // Calls act(i, r, d, body, mass, counts) for every mobile local particle with signed distance d < below
   // (in parallel); act returns the particle's velocity change, whose momentum goes to the body.
   template <class Act>
   void for_near_wall(StepContext& ctx, double below, Act&& act);
@@ -72,13 +108,22 @@ class Walls {
   std::vector<std::uint8_t> frozen_;  // by species
   double fill_density_ = 0;           // mass density of the fluid the walls were cut from
   std::uint64_t reflections_ = 0, penetrations_ = 0, penetrations_total_ = 0;  // this rank
-  std::uint64_t counted_ = 0;  // of the current for_near_wall
+  std::uint64_t pushes_ = 0;  // this rank: normal pushes that stopped a force kick at a surface
+  std::array<std::uint64_t, 2> counted_{0, 0};  // of the current for_near_wall
   std::vector<std::int64_t> impulse_;  // this rank, this step: 3 per body, momentum/dt in 2^32 units
-  // Drag samples in blocks: per block, per body 3 force sums, then 3 fluid velocity sums; counts.
-  std::uint64_t samples_expected_ = 0, samples_ = 0, block_size_ = 1;
-  std::vector<std::array<double, 6>> block_sums_;  // [block * bodies + body]
-  std::vector<std::uint64_t> block_counts_;
+  // Drag samples: per body 3 forces, then 3 fluid velocity components, summed over all samples and
+  // in blocks (between walls.drag_blocks and twice as many full blocks at any time).
+  std::uint64_t samples_ = 0;
+  std::vector<double> drag_total_;
+  BlockRows drag_blocks_;
   std::filesystem::path out_dir_;
+  // Adaptive force, per solid and bin: the potential and the force of each segment; the fluid volume of
+  // the bin and the particle counts since the last update (over all ranks; the bulk beyond the range
+  // last), the last density ratios.
+  double bin_width_ = 0;
+  std::vector<double> potential_, segment_force_, bin_volume_, ratio_;
+  std::vector<std::uint64_t> bin_counts_;
+  std::uint64_t bin_samples_ = 0;
 };
 
 }  // namespace mesodpd

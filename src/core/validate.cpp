@@ -507,7 +507,11 @@ void build_molecule(const SimulationSpec& spec, std::size_t k, MoleculeSpec& m) 
   std::size_t pos = 0;
   auto species_of = [&](const std::string& name) {
     for (std::size_t t = 0; t < spec.species.size(); ++t)
-      if (spec.species[t].name == name) return static_cast<int>(t);
+      if (spec.species[t].name == name) {
+        if (spec.species[t].frozen)
+          fail(key, show(s), fmt::format("species '{}' is frozen (a wall species); molecule beads must move", name));
+        return static_cast<int>(t);
+      }
     fail(key, show(s), fmt::format("names species '{}', which no [[species]] block defines", name));
   };
   auto number = [&]() {
@@ -581,6 +585,10 @@ void validate_topology(SimulationSpec& spec) {
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
            "multiple time stepping splits the Groot-Warren (velocity-Verlet) step; it is not available with "
            "integrator.type = \"euler\"");
+    if (!spec.solids.empty())
+      fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
+           "not available with [[solid]] walls yet: the walls reflect a particle from its predicted move over a "
+           "whole step, which the inner steps would change");
     if (spec.molecules.empty() && spec.data_file.empty())
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
            "there are no bonds to subcycle: add [[molecule]] blocks or read a data file with a Bonds section");
@@ -812,6 +820,16 @@ void validate_walls(SimulationSpec& spec) {
   check("walls.reference_area", w.reference_area, kNonNegative);
   check("walls.viscosity", w.viscosity, kNonNegative);
   if (w.depth == 0) w.depth = largest_cutoff(spec);
+  check_between("walls.adaptive_bins", w.adaptive_bins, 1, 1000);
+  check("walls.adaptive_range", w.adaptive_range, kNonNegative);
+  check("walls.adaptive_gain", w.adaptive_gain, Range{0.0, 2.0, false, true});
+  check_at_least("walls.adaptive_every", w.adaptive_every, 1);
+  if (w.adaptive_range == 0) w.adaptive_range = largest_cutoff(spec);
+  if (w.adaptive && w.adaptive_range <= w.layer)
+    fail("walls.adaptive_range", show(w.adaptive_range),
+         fmt::format("must exceed walls.layer = {} (the force acts between the reflecting layer and the range)", w.layer));
+  if (w.adaptive && spec.solids.empty())
+    fail("walls.adaptive", "true", "an adaptive near-wall force needs [[solid]] walls");
   bool any_mobile = false;
   for (std::size_t k = 0; k < spec.species.size(); ++k) {
     const SpeciesSpec& sp = spec.species[k];
@@ -827,10 +845,6 @@ void validate_walls(SimulationSpec& spec) {
   if (!spec.data_file.empty())
     fail("init.lammps_data", show(spec.data_file),
          "[[solid]] walls are built from a generated fluid; they cannot be combined with a data file yet");
-  if (!spec.molecules.empty())
-    fail("molecule", show(spec.molecules.front().name),
-         "[[molecule]] chains are placed as random walks through the whole box and would cross the [[solid]] "
-         "walls; molecules between walls are not supported yet");
   for (std::size_t b = 0; b < spec.solids.size(); ++b) {
     SolidSpec& s = spec.solids[b];
     const std::string key = fmt::format("solid[{}]", b);

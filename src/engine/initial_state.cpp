@@ -106,23 +106,37 @@ struct NewParticle {
 // Unwrapped bead positions of molecule number `mol` (1-based, all kinds together) of kind k: a random
 // walk with steps of bond_length in uniformly random directions, each bead placed from the bead it is
 // bonded to, the first uniformly in the box. A pure function of (seed, mol). On a bounded axis a step
-// that would leave the box is drawn again (up to 1000 times, then the molecule cannot be placed).
+// that would leave the box is drawn again, and so is a bead (or the midpoint of its bond) closer than
+// kSolidClearance to a [[solid]] (up to 1000 times, then the molecule cannot be placed).
+constexpr double kSolidClearance = 0.5;
+
+bool clear_of_solids(const Geometry* geometry, const std::array<double, 3>& r) {
+  return geometry == nullptr || geometry->sdf(Vec3{r[0], r[1], r[2]}) > kSolidClearance;
+}
+
 void random_walk(const SimulationSpec& spec, const Box& box, std::size_t k, std::uint64_t mol,
-                 std::vector<std::array<double, 3>>& walk) {
+                 std::vector<std::array<double, 3>>& walk, const Geometry* geometry) {
   const MoleculeSpec& m = spec.molecules[k];
   walk.assign(m.beads.size(), {0, 0, 0});
   const auto key = static_cast<std::uint32_t>(mol);
-  const Philox4x32 first = particle_bits(spec.seed, RngStream::InitMolecule, key, 0);
-  for (int d = 0; d < 3; ++d)
-    walk[0][static_cast<std::size_t>(d)] = (static_cast<double>(first.v[d]) / 4294967296.0) * box.length(d);
-  std::uint32_t draw = 1;
+  std::uint32_t draw = 0;
+  for (int attempt = 0;; ++attempt) {
+    if (attempt == 1000)
+      throw ConfigError(fmt::format("molecule[{}]: molecule {} cannot be placed: no place found at least {} away from "
+                                    "the [[solid]] walls",
+                                    k, mol, kSolidClearance));
+    const Philox4x32 first = particle_bits(spec.seed, RngStream::InitMolecule, key, draw++);
+    for (int d = 0; d < 3; ++d)
+      walk[0][static_cast<std::size_t>(d)] = (static_cast<double>(first.v[d]) / 4294967296.0) * box.length(d);
+    if (clear_of_solids(geometry, walk[0])) break;
+  }
   for (const auto& bond : m.bonds) {
     const auto from = static_cast<std::size_t>(bond[0]), to = static_cast<std::size_t>(bond[1]);
     for (int attempt = 0;; ++attempt) {
       if (attempt == 1000)
         throw ConfigError(fmt::format("molecule[{}]: molecule {} cannot be placed: its random walk keeps leaving the "
-                                      "box across a bounded axis (system.periodic); use a larger box or a shorter "
-                                      "molecule[{}].bond_length", k, mol, k));
+                                      "box across a bounded axis (system.periodic) or running into a [[solid]]; use a "
+                                      "larger box or a shorter molecule[{}].bond_length", k, mol, k));
       const Philox4x32 b = particle_bits(spec.seed, RngStream::InitMolecule, key, draw++);
       const double cz = 2.0 * u01_open(b.v[0]) - 1.0;
       const double phi = 6.283185307179586 * u01_open(b.v[1]);
@@ -133,6 +147,11 @@ void random_walk(const SimulationSpec& spec, const Box& box, std::size_t k, std:
         const auto du = static_cast<std::size_t>(d);
         walk[to][du] = walk[from][du] + m.bond_length * dir[d];
         if (!box.periodic[du] && !(walk[to][du] >= 0.0 && walk[to][du] < box.length(d))) inside = false;
+      }
+      if (inside && geometry != nullptr) {
+        std::array<double, 3> mid{};
+        for (std::size_t d = 0; d < 3; ++d) mid[d] = 0.5 * (walk[from][d] + walk[to][d]);
+        inside = clear_of_solids(geometry, walk[to]) && clear_of_solids(geometry, mid);
       }
       if (inside) break;
     }
@@ -258,8 +277,8 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
     while (grid[0] * grid[1] * grid[2] < lattice_total) ++grid[0];
   }
   // Molecules first (ids 1 .. M, molecule after molecule), then the free particles of each species.
-  // Solids: the fluid inside them is frozen near their surface and left out deeper in (validate()
-  // refuses molecules together with solids, so no bead is ever placed inside one).
+  // Solids: the fluid inside them is frozen near their surface and left out deeper in; molecules are
+  // placed clear of them (random_walk).
   std::optional<Geometry> geometry;
   if (!spec.solids.empty()) geometry.emplace(spec.solids, box);
   // Visits every particle in id order; positions are functions of the draw number (the id when there
@@ -274,7 +293,7 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
       const MoleculeSpec& m = spec.molecules[k];
       for (std::uint64_t c = 0; c < m.count; ++c) {
         ++mol;
-        random_walk(spec, box, k, mol, walk);
+        random_walk(spec, box, k, mol, walk, geometry ? &*geometry : nullptr);
         for (std::size_t b = 0; b < m.beads.size(); ++b, ++i) {
           q.id = next_id++;
           q.species = m.beads[b];

@@ -102,7 +102,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (neighbor_builds_before_ > 0) --neighbor_builds_before_;
     add_bonded_forces(false, &fast_, true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, 0.0};
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0};
   if (spec_.droplet.enabled) {
     // The droplet's local pressures: the run's force law on a subset of particles, by the reference
     // loop (serial, in index order, so the result depends on neither threads nor ranks).
@@ -111,14 +111,30 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   }
   if (!spec_.solids.empty()) {
     // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
-    // velocities are complete, drag samples at the end of each step, and
-    // the reflection and penetration counts as thermo columns.
-    walls_ = std::make_shared<Walls>(spec_, box_, spec_.integrator == IntegratorKind::GrootWarren, step_, final_step_);
+    // velocities are complete, drag samples at the end of each step, the reflection and penetration
+    // counts as thermo columns, and the drag averages (and adaptive force) in checkpoints.
+    walls_ = std::make_shared<Walls>(spec_, box_, spec_.integrator == IntegratorKind::GrootWarren);
     walls_->set_output(options_.out_dir, restarted, halo_.comm());
     std::shared_ptr<Walls> w = walls_;
     stages_.add(StagePoint::AfterFirstHalf, make_stage([w](StepContext& ctx) { w->mirror_positions(ctx); }));
     stages_.add(StagePoint::AfterSecondHalf, make_stage([w](StepContext& ctx) { w->reflect_velocities(ctx); }));
     stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->sample_drag(ctx); }));
+    if (w->adaptive()) {
+      // The adaptive near-wall force: applied with the other external forces, adjusted after the drag
+      // sample (which takes it back from the solids with the values it had at this step's forces).
+      stages_.add(StagePoint::Forces, make_stage([w](StepContext& ctx) { w->add_adaptive_force(ctx); }));
+      stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->adapt(ctx); }));
+    }
+    observer_settings.sections.push_back({"walls", [w](ByteWriter& out) { w->save(out); },
+                                          [w](ByteReader& in, const std::string& context) { w->load(in, context); }});
+    if (!restarted) {
+      // The initial velocities obey the wall rule like every end-of-step one (a fast particle next to a
+      // surface would otherwise cross it in the first move); the ghosts and forces then belong to them.
+      StepContext ctx = context();
+      walls_->reflect_velocities(ctx);
+      rebuild_neighbors(nlist_, p_, box_, halo_);
+      compute_forces(true);
+    }
     auto counts = std::make_shared<std::array<std::uint64_t, 2>>();
     observer_settings.columns.push_back({"reflections", [w, counts](const StepContext& ctx) {
                                            *counts = w->take_counts(ctx.comm);

@@ -675,7 +675,8 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
     spec.solids.push_back(std::move(solid));
   }
   const auto w = top.table("walls", {"reflection", "layer", "depth", "drag_start", "drag_every", "drag_blocks",
-                                     "reference_length", "reference_area", "viscosity"});
+                                     "reference_length", "reference_area", "viscosity", "adaptive", "adaptive_bins",
+                                     "adaptive_range", "adaptive_gain", "adaptive_every", "adaptive_stop"});
   if (!w) return;
   WallsSpec& ws = spec.walls;
   ws.reflection = w->choice<ReflectionKind>("reflection", {{"none", ReflectionKind::None},
@@ -691,6 +692,12 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
   read_real(*w, "reference_length", ws.reference_length);
   read_real(*w, "reference_area", ws.reference_area);
   read_real(*w, "viscosity", ws.viscosity);
+  ws.adaptive = w->boolean("adaptive").value_or(false);
+  read_int(*w, "adaptive_bins", ws.adaptive_bins);
+  read_real(*w, "adaptive_range", ws.adaptive_range);
+  read_real(*w, "adaptive_gain", ws.adaptive_gain);
+  read_uint(*w, "adaptive_every", ws.adaptive_every);
+  read_uint(*w, "adaptive_stop", ws.adaptive_stop);
 }
 
 void read_fields(const Section& f, SimulationSpec& spec) {

@@ -452,8 +452,9 @@ TEST(Mpi, BoundedAxesGiveTheSameBitsOnOneTwoAndFourRanks) {
 // Frozen-particle walls under decomposition: a channel bounded along z with a pillar, Maxwellian
 // reflections (the counter-based wall noise) and a body force. Frozen particles are owned, migrated and
 // ghosted like any other, the pair loop skips frozen-frozen pairs on every rank alike, and reflections
-// and drag sums act per particle or in integers: thermo.csv (with the reflection and penetration
-// counts), drag.csv and the checkpoint are byte-identical on 1, 2 and 4 ranks and 1 and 2 threads.
+// and drag sums act per particle or in integers, and the adaptive near-wall force's bin counts are
+// integers summed over ranks: thermo.csv (with the reflection and penetration counts), drag.csv,
+// adaptive.csv and the checkpoint are byte-identical on 1, 2 and 4 ranks and 1 and 2 threads.
 TEST(Mpi, WallsGiveTheSameBitsOnOneTwoFourRanksAndTwoThreads) {
   const fs::path dir = fresh_dir();
   write(dir / "walls.toml",
@@ -466,21 +467,23 @@ TEST(Mpi, WallsGiveTheSameBitsOnOneTwoFourRanksAndTwoThreads) {
         "velocity = [0.2, 0, 0]\n\n"
         "[[solid]]\nname = \"pillar\"\nspecies = \"wall\"\nshape = \"cylinder\"\ncenter = [4.5, 3, 4.5]\n"
         "direction = [0, 1, 0]\nradius = 1.5\n\n"
-        "[walls]\nreflection = \"maxwell\"\ndrag_every = 5\n\n"
+        "[walls]\nreflection = \"maxwell\"\ndrag_every = 5\nadaptive = true\nadaptive_every = 10\n\n"
         "[output]\nthermo_every = 10\nprogress = false\n");
-  std::string thermo, drag, checkpoint;
+  std::string thermo, drag, checkpoint, adaptive;
   for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{1, 1}, {2, 1}, {4, 1}, {1, 2}, {2, 2}}) {
     const std::string out = fmt::format("out_{}x{}", ranks, threads);
     const Result r = mpirun(dir, ranks, "run walls.toml --out " + out, threads);
     ASSERT_EQ(r.code, 0) << ranks << " ranks x " << threads << " threads\n" << r.out << r.err;
     const std::string t = read_all(dir / out / "thermo.csv"), d = read_all(dir / out / "drag.csv"),
-                      c = read_all(dir / out / "checkpoint.mdpd");
+                      c = read_all(dir / out / "checkpoint.mdpd"), a = read_all(dir / out / "adaptive.csv");
     ASSERT_NE(t.find("reflections,penetrations"), std::string::npos) << t;
     ASSERT_GT(d.size(), 1000u);
+    ASSERT_GT(a.size(), 1000u);
     if (thermo.empty()) {
-      thermo = t, drag = d, checkpoint = c;
+      thermo = t, drag = d, checkpoint = c, adaptive = a;
       continue;
     }
+    EXPECT_EQ(a, adaptive) << ranks << " ranks x " << threads << " threads: adaptive.csv differs";
     EXPECT_EQ(t, thermo) << ranks << " ranks x " << threads << " threads: thermo.csv differs";
     EXPECT_EQ(d, drag) << ranks << " ranks x " << threads << " threads: drag.csv differs";
     EXPECT_EQ(c, checkpoint) << ranks << " ranks x " << threads << " threads: checkpoint differs";

@@ -398,7 +398,7 @@ spacing = 4
 radius = 1
 )");
   EXPECT_NE(m.find("system.box[0]"), std::string::npos) << m;
-  // Chains placed as random walks through the box would cross the walls: refused, naming the section.
+  // Molecule beads of a frozen (wall) species: refused, naming the sequence.
   m = config_error(std::string(kChannel) + R"(
 [[bond_type]]
 name = "spring"
@@ -406,12 +406,12 @@ style = "harmonic"
 k = 4
 [[molecule]]
 name = "chain"
-sequence = "fluid5"
+sequence = "fluid2wall3"
 bond_type = "spring"
 count = 2
 )");
-  EXPECT_NE(m.find("molecule"), std::string::npos) << m;
-  EXPECT_NE(m.find("[[solid]]"), std::string::npos) << m;
+  EXPECT_NE(m.find("molecule[0].sequence"), std::string::npos) << m;
+  EXPECT_NE(m.find("frozen"), std::string::npos) << m;
 }
 
 TEST(SolidConfig, BodyForceAlongABoundedAxisWithoutWallsIsRefused) {
