@@ -16,8 +16,12 @@ inline constexpr double kForceUnscale = 1.0 / kForceScale;
 inline constexpr double kVirialScale = 16777216.0;
 inline constexpr double kVirialUnscale = 1.0 / kVirialScale;
 
+// Largest magnitude to_fixed() converts; beyond it values are clamped (below 2^63, so the conversion
+// is defined). Vector versions of to_fixed (engine/force_compute.cpp) use the same bound.
+inline constexpr double kFixedLimit = 9.0e18;
+
 MESODPD_HD std::int64_t to_fixed(double v, double scale) {
-  constexpr double kLimit = 9.0e18;
+  constexpr double kLimit = kFixedLimit;
   double s = v * scale;
   s = s > kLimit ? kLimit : s;
   s = s < -kLimit ? -kLimit : s;

@@ -19,6 +19,34 @@
 #include "engine/fixed_point.hpp"
 #include "engine/pair_batch.hpp"
 
+// Compiled once, not per target (this file is re-included for every instruction set below).
+#ifndef MESODPD_FORCE_COMPUTE_SHARED
+#define MESODPD_FORCE_COMPUTE_SHARED
+namespace mesodpd {
+// Byte shuffles that move the 32-bit lanes of a 4-lane vector selected by a 4-bit mask to the front,
+// in order: the distance filter's compress where the instruction set has no compress instruction
+// (AVX2). A static table, so that no target rebuilds it on the stack per call.
+struct Compress4Table {
+  alignas(16) std::uint8_t idx[16][16];
+};
+constexpr Compress4Table make_compress4_table() {
+  Compress4Table t{};
+  for (int bits = 0; bits < 16; ++bits) {
+    int out = 0;
+    for (int lane = 0; lane < 4; ++lane)
+      if (bits & (1 << lane)) {
+        for (int byte = 0; byte < 4; ++byte) t.idx[bits][4 * out + byte] = static_cast<std::uint8_t>(4 * lane + byte);
+        ++out;
+      }
+    for (; out < 4; ++out)  // unused lanes: anything; repeat lane 0
+      for (int byte = 0; byte < 4; ++byte) t.idx[bits][4 * out + byte] = static_cast<std::uint8_t>(byte);
+  }
+  return t;
+}
+inline constexpr Compress4Table kCompress4 = make_compress4_table();
+}  // namespace mesodpd
+#endif
+
 // Targets compiled: the portable fallback, SSE4, AVX2 and AVX-512 on x86 (and NEON/SVE on ARM), less
 // SSSE3, which adds compile time and no user.
 #ifndef HWY_DISABLED_TARGETS
@@ -47,6 +75,26 @@ constexpr bool kFaultFreeMaskedLoad = true;
 #else
 constexpr bool kFaultFreeMaskedLoad = false;
 #endif
+
+// q[k] = to_fixed(v[k], scale) for k in [0, m), a vector at a time, with the same bits as the scalar
+// function: the same product, clamp and NaN rule, and a truncating conversion that is exact for every
+// clamped value (native on AVX-512; emulated exactly elsewhere, where a scalar loop would stall on one
+// conversion per value). Reads and writes up to the next multiple of the lane count, which never passes
+// PairBatch::kCapacity (a multiple of every target's lane count).
+HWY_INLINE void to_fixed_array(const double* HWY_RESTRICT v, std::int64_t* HWY_RESTRICT q, std::size_t m,
+                               double scale) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const auto vs = hn::Set(d, scale), hi = hn::Set(d, kFixedLimit), lo = hn::Set(d, -kFixedLimit);
+  for (std::size_t k = 0; k < m; k += hn::Lanes(d)) {
+    auto x = hn::Mul(hn::LoadU(d, v + k), vs);
+    x = hn::IfThenElse(hn::Gt(x, hi), hi, x);
+    x = hn::IfThenElse(hn::Lt(x, lo), lo, x);
+    x = hn::IfThenElse(hn::Eq(x, x), x, hi);  // NaN becomes the largest value, as in to_fixed()
+    hn::StoreU(hn::ConvertTo(di, x), di, q + k);
+  }
+}
+static_assert(PairBatch::kCapacity % 16 == 0, "to_fixed_array rounds batch lengths up to whole vectors");
 
 // What one kind of pair computation evaluates, on top of the shared traversal:
 //   kComponents   integers accumulated per particle (3 for a force, 1 for a density)
@@ -92,10 +140,16 @@ struct ForcePass {
         const PairForceT<PairReal> f = eval(pp, in);
         const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
         const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
-        b.qx[k] = to_fixed(fx, kForceScale);
-        b.qy[k] = to_fixed(fy, kForceScale);
-        b.qz[k] = to_fixed(fz, kForceScale);
-        if constexpr (kSums) {
+        if constexpr (!kSums) {
+          // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
+          // lacks and which would keep the compiler from vectorising the law.
+          b.fx[k] = fx;
+          b.fy[k] = fy;
+          b.fz[k] = fz;
+        } else {
+          b.qx[k] = to_fixed(fx, kForceScale);
+          b.qy[k] = to_fixed(fy, kForceScale);
+          b.qz[k] = to_fixed(fz, kForceScale);
           const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
           local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
           local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
@@ -107,6 +161,11 @@ struct ForcePass {
           local[7] += to_fixed(f.energy, kVirialScale);
           local[8] += in_range ? 1 : 0;
         }
+      }
+      if constexpr (!kSums) {
+        to_fixed_array(b.fx, b.qx, m, kForceScale);
+        to_fixed_array(b.fy, b.qy, m, kForceScale);
+        to_fixed_array(b.fz, b.qz, m, kForceScale);
       }
     };
     if (ns == 1)
@@ -136,11 +195,11 @@ struct DensityPass {
     const std::int32_t* sp = species;
     if (ns == 1) {
       const Params p0 = params[0];
-      for (std::size_t k = 0; k < m; ++k) b.qx[k] = to_fixed(kernel(p0, b.r[k]), kForceScale);
+      for (std::size_t k = 0; k < m; ++k) b.fx[k] = kernel(p0, b.r[k]);
     } else {
-      for (std::size_t k = 0; k < m; ++k)
-        b.qx[k] = to_fixed(kernel(tab[sp[b.i[k]] * ns + sp[b.j[k]]], b.r[k]), kForceScale);
+      for (std::size_t k = 0; k < m; ++k) b.fx[k] = kernel(tab[sp[b.i[k]] * ns + sp[b.j[k]]], b.r[k]);
     }
+    to_fixed_array(b.fx, b.qx, m, kForceScale);
   }
 };
 
@@ -177,23 +236,38 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   const std::uint64_t seed = g.seed;
   const NoiseKind kind = g.kind;
   const std::uint64_t step = g.step;
-  // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
+  // Pass 0: particle j's data into contiguous arrays (the only gathers of the evaluation).
   for (std::size_t k = 0; k < m; ++k) {
     const std::uint32_t j = b.j[k];
-    const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - x[j], ilx, hlx));
-    const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - y[j], ily, hly));
-    const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - z[j], ilz, hlz));
+    b.jx[k] = x[j];
+    b.jy[k] = y[j];
+    b.jz[k] = z[j];
+    if constexpr (Pass::kVelocity) {
+      b.jvx[k] = vx[j];
+      b.jvy[k] = vy[j];
+      b.jvz[k] = vz[j];
+    }
+    if constexpr (Pass::kNoise) b.jid[k] = id[j];
+  }
+  // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
+  for (std::size_t k = 0; k < m; ++k) {
+    const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - b.jx[k], ilx, hlx));
+    const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - b.jy[k], ily, hly));
+    const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - b.jz[k], ilz, hlz));
     const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
     b.r[k] = r;
     if constexpr (Pass::kDirection) {
-      const PairReal inv_r = r > PairReal(0) ? PairReal(1) / r : PairReal(0);
+      // Divides by 1 where r = 0 and then selects 0: a division that cannot fault is one the compiler
+      // may compute for every lane, so the loop vectorises without masked division (AVX2).
+      const bool apart = r > PairReal(0);
+      const PairReal inv_r = apart ? PairReal(1) / (apart ? r : PairReal(1)) : PairReal(0);
       b.dx[k] = dx;
       b.dy[k] = dy;
       b.dz[k] = dz;
       b.inv_r[k] = inv_r;
       if constexpr (Pass::kVelocity)
-        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - vx[j]) + dy * static_cast<PairReal>(b.ivy[k] - vy[j]) +
-                   dz * static_cast<PairReal>(b.ivz[k] - vz[j])) *
+        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - b.jvx[k]) + dy * static_cast<PairReal>(b.ivy[k] - b.jvy[k]) +
+                   dz * static_cast<PairReal>(b.ivz[k] - b.jvz[k])) *
                   inv_r;
     }
   }
@@ -201,10 +275,10 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   if constexpr (Pass::kNoise) {
     if (kind == NoiseKind::Uniform) {
       for (std::size_t k = 0; k < m; ++k)
-        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Uniform));
+        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Uniform));
     } else {
       for (std::size_t k = 0; k < m; ++k)
-        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], id[b.j[k]], NoiseKind::Gaussian));
+        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Gaussian));
     }
   }
   // Pass 3: the law or kernel and the fixed-point conversion.
@@ -337,6 +411,15 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
         return hn::LoadMaskBits(dru, bits);
       }
     };
+    // Where the instruction set has no compress instruction and a vector holds 4 candidates (AVX2, double
+    // precision), the compress is a table-driven byte shuffle (kCompress4).
+#undef MESODPD_TABLE_COMPRESS
+#if HWY_TARGET == HWY_AVX2 && !defined(MESODPD_SINGLE_PRECISION)
+#define MESODPD_TABLE_COMPRESS 1
+    const hn::Repartition<std::uint8_t, decltype(dru)> du8;
+#else
+#define MESODPD_TABLE_COMPRESS 0
+#endif
     auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1, double ox, double oy, double oz) {
       constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
       const auto lim = hn::Set(dr, filter2);
@@ -363,9 +446,28 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
           const auto dz = hn::Sub(zi, hn::LoadU(dr, cz + k));
           const auto r2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
           const auto keep = hn::And(valid, hn::Lt(r2, lim));
+#if MESODPD_TABLE_COMPRESS
+          {
+            // 4 candidates: the keep bits select a byte shuffle that packs the kept indices; the whole
+            // vector is stored (b.j has slack) and m advances by the count.
+            alignas(8) std::uint8_t bits[8] = {};
+            hn::StoreMaskBits(dr, keep, bits);
+            unsigned mask = bits[0];
+            if (frozen_i) {
+              alignas(8) std::uint8_t mobile[8] = {};
+              hn::StoreMaskBits(dru, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)), mobile);
+              mask &= mobile[0];
+            }
+            const auto shuffle = hn::Load(du8, kCompress4.idx[mask]);
+            hn::StoreU(hn::BitCast(dru, hn::TableLookupBytes(hn::BitCast(du8, hn::LoadU(dru, cj + k)), shuffle)), dru,
+                       b.j + m);
+            m += static_cast<std::size_t>(hwy::PopCount(mask));
+          }
+#else
           auto keep_j = index_mask(keep);
           if (frozen_i) keep_j = hn::And(keep_j, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)));
           m += hn::CompressStore(hn::LoadU(dru, cj + k), keep_j, dru, b.j + m);
+#endif
         }
         spread_i(i, m0, m);
         b.m = m;

@@ -24,6 +24,13 @@ struct PairBatch {
   alignas(64) double ivx[kCapacity + kSlack], ivy[kCapacity + kSlack], ivz[kCapacity + kSlack];
   alignas(64) std::uint32_t iid[kCapacity + kSlack];
   alignas(64) std::uint32_t j[kCapacity + kSlack];  // compressed stores may run past m
+  // Copies of particle j's position, velocity and id, gathered once per batch so that the evaluation
+  // passes read contiguous arrays (and vectorise on targets without fast gathers).
+  alignas(64) double jx[kCapacity + kSlack], jy[kCapacity + kSlack], jz[kCapacity + kSlack];
+  alignas(64) double jvx[kCapacity + kSlack], jvy[kCapacity + kSlack], jvz[kCapacity + kSlack];
+  alignas(64) std::uint32_t jid[kCapacity + kSlack];
+  // Force components (or density contributions in fx) in double before the fixed-point conversion.
+  alignas(64) double fx[kCapacity], fy[kCapacity], fz[kCapacity];
   alignas(64) PairReal dx[kCapacity];
   alignas(64) PairReal dy[kCapacity];
   alignas(64) PairReal dz[kCapacity];
