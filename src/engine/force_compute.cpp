@@ -86,8 +86,18 @@ HWY_INLINE void to_fixed_array(const double* HWY_RESTRICT v, std::int64_t* HWY_R
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   const auto vs = hn::Set(d, scale), hi = hn::Set(d, kFixedLimit), lo = hn::Set(d, -kFixedLimit);
+  // Below 2^51 in magnitude (every force short of a blow-up) the truncated value t is an integer that
+  // t + 1.5 * 2^52 holds exactly in its low mantissa bits: four cheap instructions instead of the full
+  // conversion, which the other values (large, infinite, NaN) still take.
+  const auto small = hn::Set(d, 2251799813685248.0);  // 2^51
+  const auto magic = hn::Set(d, 6755399441055744.0);  // 1.5 * 2^52
+  const auto magic_bits = hn::BitCast(di, magic);
   for (std::size_t k = 0; k < m; k += hn::Lanes(d)) {
     auto x = hn::Mul(hn::LoadU(d, v + k), vs);
+    if (hn::AllTrue(d, hn::Lt(hn::Abs(x), small))) {
+      hn::StoreU(hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(x), magic)), magic_bits), di, q + k);
+      continue;
+    }
     x = hn::IfThenElse(hn::Gt(x, hi), hi, x);
     x = hn::IfThenElse(hn::Lt(x, lo), lo, x);
     x = hn::IfThenElse(hn::Eq(x, x), x, hi);  // NaN becomes the largest value, as in to_fixed()
