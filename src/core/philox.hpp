@@ -21,11 +21,17 @@ MESODPD_HD void mulhilo32(std::uint32_t a, std::uint32_t b, std::uint32_t& hi, s
   lo = static_cast<std::uint32_t>(p);
 }
 
-// Ten rounds of the Philox-4x32 bijection with the published multipliers and Weyl key increments.
+// The published Philox-4x32 multipliers and Weyl key increments (shared with the vector version of the
+// pair noise in engine/force_compute.cpp).
+inline constexpr std::uint32_t kPhiloxM0 = 0xD2511F53u, kPhiloxM1 = 0xCD9E8D57u;
+inline constexpr std::uint32_t kPhiloxW0 = 0x9E3779B9u, kPhiloxW1 = 0xBB67AE85u;
+inline constexpr int kPhiloxRounds = 10;
+
+// Ten rounds of the Philox-4x32 bijection.
 MESODPD_HD Philox4x32 philox4x32_10(Philox4x32 ctr, std::uint32_t k0, std::uint32_t k1) {
-  constexpr std::uint32_t kM0 = 0xD2511F53u, kM1 = 0xCD9E8D57u;
-  constexpr std::uint32_t kW0 = 0x9E3779B9u, kW1 = 0xBB67AE85u;
-  for (int round = 0; round < 10; ++round) {
+  constexpr std::uint32_t kM0 = kPhiloxM0, kM1 = kPhiloxM1;
+  constexpr std::uint32_t kW0 = kPhiloxW0, kW1 = kPhiloxW1;
+  for (int round = 0; round < kPhiloxRounds; ++round) {
     std::uint32_t hi0, lo0, hi1, lo1;
     mulhilo32(kM0, ctr.v[0], hi0, lo0);
     mulhilo32(kM1, ctr.v[2], hi1, lo1);
@@ -46,12 +52,16 @@ enum class RngStream : std::uint32_t {
 
 // Symmetric pair noise: one draw per unordered pair (i, j) per step. The key holds the seed;
 // the counter holds (min id, max id, step low, step high ^ stream).
+// The counter's last word: the step's high half and the stream.
+MESODPD_HD std::uint32_t pair_counter_word3(std::uint64_t step, RngStream stream) {
+  return static_cast<std::uint32_t>(step >> 32) ^ (static_cast<std::uint32_t>(stream) << 24);
+}
+
 MESODPD_HD Philox4x32 pair_random_bits(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a,
                                        std::uint32_t id_b, RngStream stream) {
   const std::uint32_t lo = id_a < id_b ? id_a : id_b;
   const std::uint32_t hi = id_a < id_b ? id_b : id_a;
-  Philox4x32 ctr{{lo, hi, static_cast<std::uint32_t>(step),
-                  static_cast<std::uint32_t>(step >> 32) ^ (static_cast<std::uint32_t>(stream) << 24)}};
+  Philox4x32 ctr{{lo, hi, static_cast<std::uint32_t>(step), pair_counter_word3(step, stream)}};
   return philox4x32_10(ctr, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
 }
 
