@@ -144,8 +144,13 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
             ForceCompute fc(laws, NoiseSettings{99, noise});
             std::vector<double> rho;
             if (density) fc.compute_density(p, box, list, *density, rho);
+            // Forces alone (the usual step: vector fixed-point conversion), then forces with the sums
+            // (thermo steps: scalar conversion); both must give the reference's forces.
             PairSums sums;
+            fc.compute(p, box, list, 17, 0.04, false, sums, nullptr, density ? rho.data() : nullptr);
+            const std::vector<double> fx_plain = p.fx, fy_plain = p.fy, fz_plain = p.fz;
             fc.compute(p, box, list, 17, 0.04, true, sums, nullptr, density ? rho.data() : nullptr);
+            EXPECT_TRUE(fx_plain == p.fx && fy_plain == p.fy && fz_plain == p.fz);
             std::vector<std::array<double, 3>> f;
             PairSums ref;
             reference_forces(p, box, laws, NoiseSettings{99, noise}, 17, 0.04, f, ref, density ? rho.data() : nullptr);
@@ -180,6 +185,52 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
   omp_set_num_threads(1);
   EXPECT_GE(compared, static_cast<int>(cases.size()) * 2 * 2 * 3);
   std::printf("SIMD targets tested:%s\n", names.c_str());
+}
+
+TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
+  // Force components from 1e-3 to 1e13 (amplitudes a up to 1e13): the fixed-point conversion's fast
+  // path (below 2^51 / 2^32 = 524,288 force units), its full path, and the clamp at 9e18 / 2^32, mixed
+  // within vectors. A particle with NaN velocity makes NaN forces, which must become the clamp's largest
+  // value as in to_fixed(). Every SIMD target against the reference loop, with and without sums.
+  RestoreTargets restore;
+  const Box box{{6.2, 5.9, 6.5}};
+  SimulationSpec spec = three_species(PairStyle::Dpd, 2.0);
+  const double scale[6] = {1.0, 1e5, 1e8, 1e11, 1e13, 3e5};
+  for (int k = 0; k < 6; ++k) spec.pairs[static_cast<std::size_t>(k)].a *= scale[k];
+  const PairLawTables laws = make_pair_laws(spec);
+  ParticleData start = random_particles(box, 700, 3, 123);
+  start.vx[17] = std::nan("");
+  int compared = 0;
+  for (std::int64_t target : simd_targets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (bool with_sums : {false, true}) {
+      ParticleData p = start;
+      NeighborList list(NeighborSettings{max_cutoff(laws), 0.0, true});
+      list.build(p, box);
+      std::vector<std::array<double, 3>> f;
+      PairSums ref;
+      reference_forces(p, box, laws, NoiseSettings{5, NoiseKind::Uniform}, 3, 0.04, f, ref);
+      int huge = 0, clamped = 0;
+      for (std::size_t i = 0; i < p.n_local; ++i)
+        for (double v : f[i]) {
+          huge += std::abs(v) > 524288.0 ? 1 : 0;
+          clamped += std::abs(v) > 2e9 ? 1 : 0;  // 9e18 / 2^32 = 2.1e9
+        }
+      EXPECT_GT(huge, 100);
+      EXPECT_GT(clamped, 10);
+      ForceCompute fc(laws, NoiseSettings{5, NoiseKind::Uniform});
+      PairSums sums;
+      fc.compute(p, box, list, 3, 0.04, with_sums, sums);
+      const std::string what = std::string(hwy::TargetName(target)) + (with_sums ? " with sums" : "");
+      for (std::size_t i = 0; i < p.n_local; ++i) {
+        expect_close(p.fx[i], f[i][0], what + " fx of id " + std::to_string(p.id[i]));
+        expect_close(p.fy[i], f[i][1], what + " fy of id " + std::to_string(p.id[i]));
+        expect_close(p.fz[i], f[i][2], what + " fz of id " + std::to_string(p.id[i]));
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 2);
 }
 
 TEST(PairLoop, DensityPassEqualsBruteForceSum) {
