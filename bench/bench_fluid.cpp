@@ -118,58 +118,64 @@ int main(int argc, char** argv) {
     if (comm.root()) fmt::print(f, std::forward<A>(args)...);
   };
 
-  utsname u{};
-  uname(&u);
-  print("# machine: {} ({} logical CPUs), {} {}, {} MPI rank(s)\n", cpu_model(), omp_get_num_procs(), u.sysname,
-        u.release, comm.size());
-#ifdef MESODPD_SINGLE_PRECISION
-  constexpr const char* kPrecision = "single-precision pair arithmetic (MESODPD_SINGLE)";
-#else
-  constexpr const char* kPrecision = "double precision";
-#endif
-  if (system == "fluid")
-    print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
-          method == "verlet" ? skin : 0.0);
-  else
-    print("# mdpd slab (liquid rho~6 in half the box) A=-40 B=25 rc=1 rd=0.75 gamma=4.5 kT=1 dt=0.01 GW lambda=0.5 "
-          "Warren kernel, {}, method={} skin={}\n", kPrecision, method, method == "verlet" ? skin : 0.0);
-  print("# OpenMP wait: {}\n", mesodpd::openmp_wait_description());
-  print("# pair loop SIMD target: {} (chosen at run time; MESODPD_SIMD caps it)\n", mesodpd::ForceCompute::simd_target());
-  print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
-        "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
-  for (std::uint64_t n : sizes)
-    for (int t : threads) {
-      omp_set_num_threads(t);
-      const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
-      const auto data = std::filesystem::temp_directory_path() / fmt::format("bench_mdpd_slab_{}_r{}.data", total, comm.rank());
-      mesodpd::Simulation sim(system == "fluid" ? fluid(total, skin, method == "verlet")
-                                                : mdpd_slab(total, method == "verlet", skin, data),
-                              mesodpd::RunOptions{});
-      for (int k = 0; k < warmup; ++k) sim.step();
-      const auto b0 = sim.neighbor_list().builds();
-      comm.barrier();
-      const double c0 = sim.halo().seconds(), m0 = sim.halo().message_seconds();
-      const auto t0 = std::chrono::steady_clock::now();
-      for (int k = 0; k < steps; ++k) sim.step();
-      comm.barrier();
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      // Communication share: the largest per-rank time in migration, ghosts and reverse forces (which
-      // includes waiting for slower neighbours) over the wall time.
-      const double comm_secs =
-          static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().seconds() - c0) * 1e9))) * 1e-9;
-      const double msg_secs =
-          static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().message_seconds() - m0) * 1e9))) * 1e-9;
-      const double np = static_cast<double>(sim.total_particles());
-      const double rate = np * steps / secs;
-      const double local = static_cast<double>(sim.particles().n_local);
-      const auto& g = sim.halo().decomposition().grid;
-      // Peak RSS covers the whole process (all earlier runs too), so run the largest N last or alone.
-      // Memory columns are the root rank's, per particle it owns.
-      print("{:>9} {:>5} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f} {:>9} {:>7.1f} {:>7.1f}\n",
-            sim.total_particles(), comm.size(), t, steps, rate, 1e9 / rate, sim.neighbor_list().builds() - b0,
-            proc_status_bytes("VmHWM:") / local, proc_status_bytes("VmRSS:") / local,
-            fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs, 100.0 * msg_secs / secs);
-      if (comm.root()) std::fflush(stdout);
-    }
+  // Bad settings (a MESODPD_SIMD value, a size the engine refuses) end with one message and exit 1.
+  try {
+    utsname u{};
+    uname(&u);
+    print("# machine: {} ({} logical CPUs), {} {}, {} MPI rank(s)\n", cpu_model(), omp_get_num_procs(), u.sysname,
+          u.release, comm.size());
+  #ifdef MESODPD_SINGLE_PRECISION
+    constexpr const char* kPrecision = "single-precision pair arithmetic (MESODPD_SINGLE)";
+  #else
+    constexpr const char* kPrecision = "double precision";
+  #endif
+    if (system == "fluid")
+      print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
+            method == "verlet" ? skin : 0.0);
+    else
+      print("# mdpd slab (liquid rho~6 in half the box) A=-40 B=25 rc=1 rd=0.75 gamma=4.5 kT=1 dt=0.01 GW lambda=0.5 "
+            "Warren kernel, {}, method={} skin={}\n", kPrecision, method, method == "verlet" ? skin : 0.0);
+    print("# OpenMP wait: {}\n", mesodpd::openmp_wait_description());
+    print("# pair loop SIMD target: {} (chosen at run time; MESODPD_SIMD caps it)\n", mesodpd::ForceCompute::simd_target());
+    print("{:>9} {:>5} {:>7} {:>7} {:>16} {:>12} {:>9} {:>11} {:>9} {:>9} {:>7} {:>7}\n", "N", "ranks", "threads",
+          "steps", "particle-steps/s", "ns/particle", "rebuilds", "peakRSS/N", "RSS/N", "grid", "comm%", "msg%");
+    for (std::uint64_t n : sizes)
+      for (int t : threads) {
+        omp_set_num_threads(t);
+        const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
+        const auto data = std::filesystem::temp_directory_path() / fmt::format("bench_mdpd_slab_{}_r{}.data", total, comm.rank());
+        mesodpd::Simulation sim(system == "fluid" ? fluid(total, skin, method == "verlet")
+                                                  : mdpd_slab(total, method == "verlet", skin, data),
+                                mesodpd::RunOptions{});
+        for (int k = 0; k < warmup; ++k) sim.step();
+        const auto b0 = sim.neighbor_list().builds();
+        comm.barrier();
+        const double c0 = sim.halo().seconds(), m0 = sim.halo().message_seconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int k = 0; k < steps; ++k) sim.step();
+        comm.barrier();
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        // Communication share: the largest per-rank time in migration, ghosts and reverse forces (which
+        // includes waiting for slower neighbours) over the wall time.
+        const double comm_secs =
+            static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().seconds() - c0) * 1e9))) * 1e-9;
+        const double msg_secs =
+            static_cast<double>(comm.max(static_cast<std::uint64_t>((sim.halo().message_seconds() - m0) * 1e9))) * 1e-9;
+        const double np = static_cast<double>(sim.total_particles());
+        const double rate = np * steps / secs;
+        const double local = static_cast<double>(sim.particles().n_local);
+        const auto& g = sim.halo().decomposition().grid;
+        // Peak RSS covers the whole process (all earlier runs too), so run the largest N last or alone.
+        // Memory columns are the root rank's, per particle it owns.
+        print("{:>9} {:>5} {:>7} {:>7} {:>16.4g} {:>12.1f} {:>9} {:>11.0f} {:>9.0f} {:>9} {:>7.1f} {:>7.1f}\n",
+              sim.total_particles(), comm.size(), t, steps, rate, 1e9 / rate, sim.neighbor_list().builds() - b0,
+              proc_status_bytes("VmHWM:") / local, proc_status_bytes("VmRSS:") / local,
+              fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs, 100.0 * msg_secs / secs);
+        if (comm.root()) std::fflush(stdout);
+      }
+  } catch (const std::exception& e) {
+    if (comm.root()) fmt::print(stderr, "bench_fluid: {}\n", e.what());
+    return 1;
+  }
   return 0;
 }

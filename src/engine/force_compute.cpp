@@ -423,17 +423,28 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
     auto flush = [&] {
       const std::size_t m = b.m;
       evaluate_batch(b, m, pass, geo, local);
-      // Pass 4: scatter (integer adds: the order does not matter).
-      for (std::size_t k = 0; k < m; ++k) {
-        const std::size_t i = b.i[k], j = b.j[k];
-        if constexpr (C == 3) {
-          buf[3 * i] += b.qx[k];
-          buf[3 * i + 1] += b.qy[k];
-          buf[3 * i + 2] += b.qz[k];
-          buf[3 * j] -= b.qx[k];
-          buf[3 * j + 1] -= b.qy[k];
-          buf[3 * j + 2] -= b.qz[k];
-        } else {
+      // Pass 4: scatter (integer adds: the order does not matter). The pairs of one particle i are
+      // consecutive in the batch, so i's share is summed in registers and added once per run.
+      if constexpr (C == 3) {
+        for (std::size_t k = 0; k < m;) {
+          const std::size_t i = b.i[k];
+          std::int64_t sx = 0, sy = 0, sz = 0;
+          for (; k < m && b.i[k] == i; ++k) {
+            const std::size_t j = b.j[k];
+            sx += b.qx[k];
+            sy += b.qy[k];
+            sz += b.qz[k];
+            buf[3 * j] -= b.qx[k];
+            buf[3 * j + 1] -= b.qy[k];
+            buf[3 * j + 2] -= b.qz[k];
+          }
+          buf[3 * i] += sx;
+          buf[3 * i + 1] += sy;
+          buf[3 * i + 2] += sz;
+        }
+      } else {
+        for (std::size_t k = 0; k < m; ++k) {
+          const std::size_t i = b.i[k], j = b.j[k];
           buf[i] += b.qx[k];
           buf[j] += Pass::kSymmetric ? b.qx[k] : -b.qx[k];
         }

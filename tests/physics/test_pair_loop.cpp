@@ -191,7 +191,10 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
   // Force components from 1e-3 to 1e13 (amplitudes a up to 1e13): the fixed-point conversion's fast
   // path (below 2^51 / 2^32 = 524,288 force units), its full path, and the clamp at 9e18 / 2^32, mixed
   // within vectors. A particle with NaN velocity makes NaN forces, which must become the clamp's largest
-  // value as in to_fixed(). Every SIMD target against the reference loop, with and without sums.
+  // value as in to_fixed(). Every SIMD target against the reference loop, with and without sums. (In the
+  // single-precision build pair forces of 1e12 carry float rounding of 1e5 that cancels differently
+  // from the double reference's: there the runs without and with sums, whose conversions differ, must
+  // agree bit for bit instead.)
   RestoreTargets restore;
   const Box box{{6.2, 5.9, 6.5}};
   SimulationSpec spec = three_species(PairStyle::Dpd, 2.0);
@@ -203,6 +206,7 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
   int compared = 0;
   for (std::int64_t target : simd_targets()) {
     hwy::SetSupportedTargetsForTest(target);
+    std::vector<double> plain;  // forces of the run without sums
     for (bool with_sums : {false, true}) {
       ParticleData p = start;
       NeighborList list(NeighborSettings{max_cutoff(laws), 0.0, true});
@@ -222,10 +226,16 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
       PairSums sums;
       fc.compute(p, box, list, 3, 0.04, with_sums, sums);
       const std::string what = std::string(hwy::TargetName(target)) + (with_sums ? " with sums" : "");
-      for (std::size_t i = 0; i < p.n_local; ++i) {
-        expect_close(p.fx[i], f[i][0], what + " fx of id " + std::to_string(p.id[i]));
-        expect_close(p.fy[i], f[i][1], what + " fy of id " + std::to_string(p.id[i]));
-        expect_close(p.fz[i], f[i][2], what + " fz of id " + std::to_string(p.id[i]));
+      std::vector<double> got;
+      for (std::size_t i = 0; i < p.n_local; ++i) got.insert(got.end(), {p.fx[i], p.fy[i], p.fz[i]});
+      if (!with_sums) plain = got;
+      EXPECT_TRUE(got == plain) << what;
+      if (kExact) {
+        for (std::size_t i = 0; i < p.n_local; ++i) {
+          EXPECT_EQ(p.fx[i], f[i][0]) << what << " fx of id " << p.id[i];
+          EXPECT_EQ(p.fy[i], f[i][1]) << what << " fy of id " << p.id[i];
+          EXPECT_EQ(p.fz[i], f[i][2]) << what << " fz of id " << p.id[i];
+        }
       }
       ++compared;
     }
