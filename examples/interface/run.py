@@ -15,17 +15,17 @@ blend, N = 1); that chi is listed beside Groot and Warren's mapping chi = 0.286 
 Writes results.json and sigma.png (sigma and chi against Delta a) in --out. check.py judges results.json.
 """
 import argparse
-import concurrent.futures
 import json
 import math
 import os
-import subprocess
 import sys
 
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from sweep import add_run_args, run_all, run_config  # noqa: E402
 A_SELF = 25.0
 CHI_PER_DA = 0.286  # Groot and Warren's mapping at rho = 3 (J. Chem. Phys. 107, 4423 (1997), seed 002 ref. 6)
 
@@ -42,15 +42,8 @@ def make_config(da, steps, start):
 
 
 def run_one(args, da):
-    d = os.path.join(args.out, f"da{da:g}")
-    os.makedirs(d, exist_ok=True)
-    cfg = os.path.join(d, "interface.toml")
-    with open(cfg, "w") as f:
-        f.write(make_config(da, args.steps, args.start))
-    cmd = ["nice", "-n", "19", args.mesodpd, "run", cfg, "--out", d, "--threads", "1"]
-    with open(os.path.join(d, "log.txt"), "w") as log:
-        subprocess.run(cmd, check=True, stdout=log, stderr=subprocess.STDOUT)
-    return d
+    run_config(args.mesodpd, make_config(da, args.steps, args.start), os.path.join(args.out, f"da{da:g}"),
+               "interface.toml")
 
 
 def flory_huggins_chi(phi):
@@ -122,18 +115,14 @@ def plot(results, path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mesodpd", default=os.path.join(ROOT, "build", "mesodpd"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "interface"))
+    add_run_args(ap, ROOT, "interface")
     ap.add_argument("--da", type=float, nargs="+", default=[2, 5, 10, 15, 20, 30])
     ap.add_argument("--steps", type=int, default=None, help="override run.steps (default 30000)")
     ap.add_argument("--start", type=int, default=None, help="override the analyses' start (default 5000)")
-    ap.add_argument("--jobs", type=int, default=1, help="runs at the same time (each on one thread)")
-    ap.add_argument("--analyse-only", action="store_true")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     if not args.analyse_only:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as ex:
-            list(ex.map(lambda da: run_one(args, da), args.da))
+        run_all(lambda da: run_one(args, da), args.da, args.jobs)
     results = [analyse(os.path.join(args.out, f"da{da:g}"), da) for da in args.da]
     with open(os.path.join(args.out, "results.json"), "w") as f:
         json.dump(results, f, indent=1)
