@@ -110,7 +110,7 @@ def aggregates(pos, mol, is_tail, box):
     a = np.array([index[m] for m in mol[tails[pairs[:, 0]]]], dtype=int) if len(pairs) else np.zeros(0, int)
     b = np.array([index[m] for m in mol[tails[pairs[:, 1]]]], dtype=int) if len(pairs) else np.zeros(0, int)
     g = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(mols), len(mols)))
-    n, label = connected_components(g, directed=False)
+    _, label = connected_components(g, directed=False)
     sizes = np.bincount(label)
     return sizes  # molecules per aggregate
 

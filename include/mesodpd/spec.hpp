@@ -195,6 +195,25 @@ struct DropletSpec {
   int blocks = 10;                       // blocks of the error bars
 };
 
+// How a pair's (or bond's, or angle leg's) virial r_ij (x) F_ij is shared out over the bins of a stress
+// profile: "contour" spreads it along the straight line from j to i in proportion to the length of the
+// line in each bin (Irving-Kirkwood with the straight contour; the form used for planar membranes);
+// "half" puts half into the bin of each particle.
+enum class StressAssignment : int { Contour = 0, Half = 1 };
+
+// The pressure tensor binned along an axis ([analysis.stress_profile]; analysis/stress_profile.hpp):
+// every `every` steps from `start`, kinetic m v v plus the configurational virial of the conservative
+// pair forces, bonds and angles, in `bins` slabs normal to `axis`; p_N, p_T and the tension integral
+// gamma = int (p_N - p_T) dz with a block error bar.
+struct StressProfileSpec {
+  bool enabled = false;
+  int axis = 2;                          // normal of the slabs: 0 = x, 1 = y, 2 = z
+  int bins = 50;
+  std::uint64_t start = 0, every = 100;  // first sampled step and interval
+  int blocks = 10;                       // blocks of the error bars
+  StressAssignment assignment = StressAssignment::Contour;
+};
+
 struct DumpSpec {
   bool enabled = false;
   DumpFormat format = DumpFormat::Lammps;
@@ -327,6 +346,7 @@ struct SimulationSpec {
   std::vector<FieldsSpec> fields;               // [analysis.fields] / [[analysis.fields]]
   SurfaceTensionSpec surface_tension;           // [analysis.surface_tension]
   DropletSpec droplet;                          // [analysis.droplet]
+  StressProfileSpec stress_profile;             // [analysis.stress_profile]
 
   // Index into `pairs` for species i, j (either order).
   const PairSpec& pair(int a, int b) const {

@@ -148,6 +148,11 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
       if (!opt_.local_virial) throw std::logic_error("Observers: [analysis.droplet] needs ObserverSettings::local_virial");
       droplet_.emplace(s.droplet, box, opt_.interaction_range);
     }
+    if (s.stress_profile.enabled) {
+      if (!opt_.virial_terms)
+        throw std::logic_error("Observers: [analysis.stress_profile] needs ObserverSettings::virial_terms");
+      stress_.emplace(s.stress_profile, box);
+    }
     if (s.dump.enabled && files()) {
       const bool gsd = s.dump.format == DumpFormat::Gsd;
       const std::string name = !s.dump.file.empty() ? s.dump.file : (gsd ? "trajectory.gsd" : "trajectory.lammpstrj");
@@ -207,6 +212,7 @@ void Observers::save(ByteWriter& w) const {
     w.put_vector(section.bytes());
   }
   save_section(w, droplet_);
+  save_section(w, stress_);
 }
 
 void Observers::load(ByteReader& r, const std::string& context) {
@@ -242,6 +248,8 @@ void Observers::load(ByteReader& r, const std::string& context) {
   }
   if (r.remaining() == 0) return;  // a checkpoint from before the droplet analysis existed
   load_section(r, droplet_, context);
+  if (r.remaining() == 0) return;  // a checkpoint from before the stress profile existed
+  load_section(r, stress_, context);
 }
 
 void Observers::write_frame(std::uint64_t step, const StepContext& ctx, const ParticleData& p) {
@@ -330,7 +338,9 @@ void Observers::observe(const StepContext& ctx) {
   const bool msd_due = measure && s.msd.enabled && step >= s.msd.start && step % s.msd.every == 0;
   const bool dump_due = files() && s.dump.enabled && step % s.dump.every == 0;
   const bool droplet_due = measure && s.droplet.enabled && step >= s.droplet.start && step % s.droplet.every == 0;
-  if (!(rdf_due || msd_due || dump_due || droplet_due)) return;
+  const bool stress_due = measure && s.stress_profile.enabled && step >= s.stress_profile.start &&
+                          step % s.stress_profile.every == 0;
+  if (!(rdf_due || msd_due || dump_due || droplet_due || stress_due)) return;
   // The whole system in increasing id on the root (collective).
   gather_by_id(ctx.particles, comm, ctx.total_particles, snapshot_);
   if (!comm.root()) return;
@@ -352,6 +362,11 @@ void Observers::observe(const StepContext& ctx) {
                  scratch_c_.data(), n);
   }
   if (droplet_due) droplet_->sample(p, ctx.species_mass, ctx.box, opt_.local_virial);
+  if (stress_due) {
+    terms_.clear();
+    opt_.virial_terms(p, ctx.box, terms_);
+    stress_->sample(p, ctx.species_mass, frozen_, terms_);
+  }
   if (dump_due) write_frame(step, ctx, p);
 }
 
@@ -441,6 +456,7 @@ std::string Observers::finish(const StepContext& ctx) {
                            b.err, b.samples, b.blocks, "xyz"[s.surface_tension.axis]);
   }
   if (droplet_ && droplet_->samples() > 0) summary += files() ? droplet_->write(opt_.out_dir) : droplet_->summary();
+  if (stress_ && stress_->samples() > 0) summary += files() ? stress_->write(opt_.out_dir) : stress_->summary();
   if (msd_ && msd_->size() > 2) {
     if (files()) msd_->write_csv(out("msd.csv").string());
     summary += fmt::format("self-diffusion coefficient D = {:.5f}\n", msd_->diffusion_coefficient());

@@ -1,5 +1,5 @@
 // Everything that watches a run, as one EndOfStep stage: thermo output, velocity profile and
-// viscosity, RDF, MSD, binned fields, surface tension, droplet, trajectory frames and progress; their running averages go into checkpoints.
+// viscosity, RDF, MSD, binned fields, surface tension, droplet, stress profile, trajectory frames and progress; their running averages go into checkpoints.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -13,6 +13,7 @@
 #include "analysis/droplet.hpp"
 #include "analysis/msd.hpp"
 #include "analysis/rdf.hpp"
+#include "analysis/stress_profile.hpp"
 #include "analysis/surface_tension.hpp"
 #include "analysis/thermo.hpp"
 #include "analysis/velocity_profile.hpp"
@@ -66,6 +67,9 @@ struct ObserverSettings {
   // law (set by the engine), and the interaction range (pair cutoff plus density-kernel range).
   LocalVirial local_virial;
   double interaction_range = 0;
+  // [analysis.stress_profile]: appends the virial terms (conservative pair forces, bonds, angles) of the
+  // whole system handed to it (set by the engine).
+  std::function<void(const ParticleData&, const Box&, VirialTerms&)> virial_terms;
 };
 
 class Observers final : public Stage {
@@ -103,6 +107,7 @@ class Observers final : public Stage {
   // The [analysis.fields] grids (the same totals on every rank).
   const std::vector<BinnedFields>& fields() const { return fields_; }
   const DropletAnalysis* droplet() const { return droplet_ ? &*droplet_ : nullptr; }
+  const StressProfile* stress_profile() const { return stress_ ? &*stress_ : nullptr; }
 
  private:
   bool files() const { return !opt_.out_dir.empty(); }
@@ -120,6 +125,8 @@ class Observers final : public Stage {
   std::vector<BinnedFields> fields_;  // [analysis.fields] grids, summed on every rank alike
   std::optional<SurfaceTension> tension_;
   std::optional<DropletAnalysis> droplet_;
+  std::optional<StressProfile> stress_;
+  VirialTerms terms_;  // scratch: one stress-profile sample
   std::optional<LammpsDumpWriter> lammps_;
   std::optional<GsdWriter> gsd_;
   std::optional<ProgressReporter> progress_;

@@ -2,6 +2,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace mesodpd {
 
@@ -12,5 +13,17 @@ struct PairSums {
   double potential_energy = 0.0;
   std::uint64_t pairs_in_range = 0;
 };
+
+// One term of the configurational virial between particles i and j (storage indices): d = r_i - r_j
+// (minimum image) and f the force the term puts on i; its virial is d (x) f. A pair force or a bond is
+// one term (-f acts on j); an angle a-b-c is two, (a, b, r_a - r_b, F_a) and (c, b, r_c - r_b, F_c),
+// whose virials add up to the angle's -b1 (x) F_a + b2 (x) F_c. The sum of d (x) f over all terms is
+// the virial of the pressure tensor. Used to localise the stress ([analysis.stress_profile]).
+struct VirialTerm {
+  std::uint32_t i = 0, j = 0;
+  double d[3] = {0, 0, 0};
+  double f[3] = {0, 0, 0};
+};
+using VirialTerms = std::vector<VirialTerm>;
 
 }  // namespace mesodpd

@@ -419,6 +419,20 @@ void validate_analysis(SimulationSpec& spec) {
     if (!(d.bin_width < half_box))
       fail("analysis.droplet.bin_width", show(d.bin_width), fmt::format("must be < half the smallest box length ({})", half_box));
   }
+  if (spec.stress_profile.enabled) {
+    const StressProfileSpec& t = spec.stress_profile;
+    check_between("analysis.stress_profile.axis", t.axis, 0, 2);
+    check_between("analysis.stress_profile.bins", t.bins, 1, 100000);
+    check_at_least("analysis.stress_profile.every", t.every, 1);
+    check_between("analysis.stress_profile.blocks", t.blocks, 2, 1000);
+    // The profile's bins and the contour assignment wrap round the box along the axis.
+    if (!spec.periodic[static_cast<std::size_t>(t.axis)])
+      fail("analysis.stress_profile.axis", std::string(1, "xyz"[t.axis]),
+           "the stress profile needs a periodic axis (the box is bounded along it)");
+    if (spec.pair_style == PairStyle::Mdpd && spec.bond_exclusion != BondExclusion::None)
+      fail("analysis.stress_profile", "bonds.exclude with pair.style = \"mdpd\"",
+           "the virial of excluded pairs is not removed for density-dependent forces yet");
+  }
 }
 
 // [analysis.fields] / [[analysis.fields]]: the grid, the region, the species selection, centring and fit.

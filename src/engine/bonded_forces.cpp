@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <stdexcept>
 
 #include "engine/fixed_point.hpp"
 
@@ -277,6 +278,60 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     sums.pairs_in_range = static_cast<std::uint64_t>(static_cast<std::int64_t>(sums.pairs_in_range) + t[8]);
   }
   return std::nullopt;
+}
+
+bool BondedForces::excluded(std::uint32_t a, std::uint32_t b) const {
+  const std::uint32_t u = std::min(a, b), v = std::max(a, b);
+  if (excl_start_.empty() || static_cast<std::size_t>(u) + 1 >= excl_start_.size()) return false;
+  const auto first = excl_of_.begin() + excl_start_[u], last = excl_of_.begin() + excl_start_[u + 1];
+  return std::find(first, last, v) != last;
+}
+
+void BondedForces::virial_terms(const ParticleData& p, const Box& box, VirialTerms& out) const {
+  if (topo_.empty()) return;
+  // Storage index by id over the locals.
+  std::vector<std::uint32_t> at(bond_start_.size(), IdMap::kNotHere);
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    if (p.id[i] < at.size()) at[p.id[i]] = static_cast<std::uint32_t>(i);
+  auto index = [&](std::uint32_t id) {
+    const std::uint32_t k = id < at.size() ? at[id] : IdMap::kNotHere;
+    if (k == IdMap::kNotHere) throw std::logic_error("BondedForces::virial_terms: a bonded atom is missing");
+    return k;
+  };
+  const double il[3] = {box.image_len(0), box.image_len(1), box.image_len(2)};
+  const double hl[3] = {box.half_image_len(0), box.half_image_len(1), box.half_image_len(2)};
+  auto displacement = [&](std::uint32_t i, std::uint32_t j, double d[3]) {
+    d[0] = minimum_image(p.x[i] - p.x[j], il[0], hl[0]);
+    d[1] = minimum_image(p.y[i] - p.y[j], il[1], hl[1]);
+    d[2] = minimum_image(p.z[i] - p.z[j], il[2], hl[2]);
+  };
+  for (const Bond& b : topo_.bonds) {
+    VirialTerm t;
+    t.i = index(b.a);
+    t.j = index(b.b);
+    displacement(t.i, t.j, t.d);
+    const BondForce bf = bond_force(bond_types_[static_cast<std::size_t>(b.type)],
+                                    std::sqrt(t.d[0] * t.d[0] + t.d[1] * t.d[1] + t.d[2] * t.d[2]));
+    for (int c = 0; c < 3; ++c) t.f[c] = bf.f_over_r * t.d[c];  // zero for a broken bond, which stops a run
+    out.push_back(t);
+  }
+  for (const Angle& a : topo_.angles) {
+    const std::uint32_t ia = index(a.a), ib = index(a.b), ic = index(a.c);
+    double b1[3], b2[3];  // b1 = r_b - r_a, b2 = r_c - r_b, as compute() takes them
+    displacement(ib, ia, b1);
+    displacement(ic, ib, b2);
+    const AngleForce af = angle_force(angle_types_[static_cast<std::size_t>(a.type)], b1, b2);
+    VirialTerm ta, tc;
+    ta.i = ia, ta.j = ib, tc.i = ic, tc.j = ib;
+    for (int c = 0; c < 3; ++c) {
+      ta.d[c] = -b1[c];
+      ta.f[c] = af.f1[c];
+      tc.d[c] = b2[c];
+      tc.f[c] = af.f3[c];
+    }
+    out.push_back(ta);
+    out.push_back(tc);
+  }
 }
 
 }  // namespace mesodpd

@@ -67,6 +67,14 @@ class BondedForces {
                                      bool only_fast = false);
   // Excluded pairs (lower id, higher id), for tests.
   std::size_t excluded_pairs() const { return excl_of_.size(); }
+  // Whether the pair force between ids a and b is excluded (bonds.exclude).
+  bool excluded(std::uint32_t a, std::uint32_t b) const;
+
+  // Appends the virial terms (core/pair_sums.hpp) of every bond (one term) and angle (two) of the
+  // topology, evaluated on the local particles of `p`, which must hold every bonded atom (the whole
+  // system, as the analyses see it on the root). Serial, in topology order; their d (x) f add up to
+  // the bonded virial that compute() adds to the pair sums. For [analysis.stress_profile].
+  void virial_terms(const ParticleData& p, const Box& box, VirialTerms& out) const;
 
   // Storage index of a global id on this rank (after compute or refresh), IdMap::kNotHere if absent.
   IdMap& id_map() { return ids_; }

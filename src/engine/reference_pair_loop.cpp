@@ -80,14 +80,19 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
   sums.pairs_in_range = static_cast<std::uint64_t>(total[8]);
 }
 
-void reference_conservative_virial(const ParticleData& p, const Box& box, const PairLawTables& laws,
-                                   std::vector<double>& w, const double* rho) {
-  w.assign(p.n_local, 0.0);
+namespace {
+// Calls visit(i, j, dx, dy, dz, r, fc) for every pair of local particles within range of the law,
+// with fc the conservative force magnitude (along r-hat, positive repulsive); frozen-frozen pairs are
+// skipped as in the shared loop.
+template <class Visit>
+void for_each_conservative_pair(const ParticleData& p, const Box& box, const PairLawTables& laws, const double* rho,
+                                Visit&& visit) {
   std::visit(
       [&](const auto& lt) {
         using Law = typename std::decay_t<decltype(lt)>::LawType;
         Law::with_evaluator(lt.table.params, [&](auto eval) {
-          for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double, double, double, double r) {
+          for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx, double dy, double dz,
+                                                          double r) {
             if (p.body[i] != 0 && p.body[j] != 0) return;
             PairInput<double> in;
             in.r = r;
@@ -95,14 +100,39 @@ void reference_conservative_virial(const ParticleData& p, const Box& box, const 
               in.rho_i = rho[i];
               in.rho_j = rho[j];
             }
-            // r_ij . F^C_ij = r fc (a central force along r-hat).
-            const double half = 0.5 * eval(lt.table(p.species[i], p.species[j]), in).fc * r;
-            w[i] += half;
-            w[j] += half;
+            visit(i, j, dx, dy, dz, r, eval(lt.table(p.species[i], p.species[j]), in).fc);
           });
         });
       },
       laws);
+}
+}  // namespace
+
+void reference_conservative_virial(const ParticleData& p, const Box& box, const PairLawTables& laws,
+                                   std::vector<double>& w, const double* rho) {
+  w.assign(p.n_local, 0.0);
+  for_each_conservative_pair(p, box, laws, rho,
+                             [&](std::size_t i, std::size_t j, double, double, double, double r, double fc) {
+                               // r_ij . F^C_ij = r fc (a central force along r-hat).
+                               const double half = 0.5 * fc * r;
+                               w[i] += half;
+                               w[j] += half;
+                             });
+}
+
+void reference_conservative_virial_terms(const ParticleData& p, const Box& box, const PairLawTables& laws,
+                                         VirialTerms& terms, const double* rho, const ExcludedPair& excluded) {
+  for_each_conservative_pair(p, box, laws, rho,
+                             [&](std::size_t i, std::size_t j, double dx, double dy, double dz, double r, double fc) {
+                               if (fc == 0.0 || (excluded && excluded(p.id[i], p.id[j]))) return;
+                               const double s = r > 0 ? fc / r : 0.0;
+                               VirialTerm t;
+                               t.i = static_cast<std::uint32_t>(i);
+                               t.j = static_cast<std::uint32_t>(j);
+                               t.d[0] = dx, t.d[1] = dy, t.d[2] = dz;
+                               t.f[0] = s * dx, t.f[1] = s * dy, t.f[2] = s * dz;
+                               terms.push_back(t);
+                             });
 }
 
 std::function<void(const ParticleData&, const Box&, std::vector<double>&)> make_local_virial(

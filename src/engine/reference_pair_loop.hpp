@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/box.hpp"
+#include "core/pair_sums.hpp"
 #include "core/particle_data.hpp"
 #include "engine/force_compute.hpp"
 
@@ -26,6 +27,16 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
 // [analysis.droplet]. `rho` for laws with kDensity. Plain double sums, in index order.
 void reference_conservative_virial(const ParticleData& p, const Box& box, const PairLawTables& laws,
                                    std::vector<double>& w, const double* rho = nullptr);
+
+// Whether the pair force between two particles (by global id) is excluded (bonds.exclude).
+using ExcludedPair = std::function<bool(std::uint32_t, std::uint32_t)>;
+
+// Appends one VirialTerm (core/pair_sums.hpp) per pair with a nonzero conservative force, leaving out
+// the pairs `excluded` names: the configurational part of the pressure tensor, pair by pair, for
+// [analysis.stress_profile]. Serial, pairs in index order.
+void reference_conservative_virial_terms(const ParticleData& p, const Box& box, const PairLawTables& laws,
+                                         VirialTerms& terms, const double* rho = nullptr,
+                                         const ExcludedPair& excluded = {});
 
 // The per-particle conservative virial of a set of particles with these laws (and, for laws with
 // kDensity, local densities recomputed over the set): the callback of [analysis.droplet]

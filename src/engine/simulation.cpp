@@ -102,12 +102,26 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (neighbor_builds_before_ > 0) --neighbor_builds_before_;
     add_bonded_forces(false, &fast_, true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0};
+  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}};
   if (spec_.droplet.enabled) {
     // The droplet's local pressures: the run's force law on a subset of particles, by the reference
     // loop (serial, in index order, so the result depends on neither threads nor ranks).
     observer_settings.interaction_range = forces_.max_cutoff() + (density_ ? density_->table.max_cutoff : 0.0);
     observer_settings.local_virial = make_local_virial(forces_.laws(), density_);
+  }
+  if (spec_.stress_profile.enabled) {
+    // The stress profile's virial terms: the run's pair law by the reference loop (with densities over
+    // the whole system for many-body laws) without the excluded pairs, then the bonds and angles;
+    // serial and in index order, so independent of threads and ranks.
+    observer_settings.virial_terms = [this](const ParticleData& all, const Box& box, VirialTerms& terms) {
+      std::vector<double> rho;
+      if (density_) reference_density(all, box, *density_, rho);
+      ExcludedPair excluded;
+      if (bonds_.excluded_pairs() > 0)
+        excluded = [this](std::uint32_t a, std::uint32_t b) { return bonds_.excluded(a, b); };
+      reference_conservative_virial_terms(all, box, forces_.laws(), terms, density_ ? rho.data() : nullptr, excluded);
+      bonds_.virial_terms(all, box, terms);
+    };
   }
   if (!spec_.solids.empty()) {
     // Walls: penetrations mirrored right after the positions move, reflections in the layer after the

@@ -727,7 +727,7 @@ void read_fields(const Section& f, SimulationSpec& spec) {
 }
 
 void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension", "droplet"});
+  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"});
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -764,6 +764,18 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
     read_real(*d, "outer_radius", o.outer_radius);
     read_real(*d, "bin_width", o.bin_width);
     read_int(*d, "blocks", o.blocks);
+  }
+  if (const auto d = s.table("stress_profile", {"axis", "bins", "start", "every", "blocks", "assignment"})) {
+    StressProfileSpec& o = spec.stress_profile;
+    o.enabled = true;
+    o.axis = d->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
+    read_int(*d, "bins", o.bins);
+    read_uint(*d, "start", o.start);
+    read_uint(*d, "every", o.every);
+    read_int(*d, "blocks", o.blocks);
+    o.assignment = d->choice<StressAssignment>("assignment", {{"contour", StressAssignment::Contour},
+                                                              {"half", StressAssignment::Half}})
+                       .value_or(StressAssignment::Contour);
   }
 }
 
