@@ -11,11 +11,15 @@ as commonly reproduced from that paper; they were not re-checked against the ori
 Aggregates are found from the tail beads: two molecules belong to one aggregate when a tail bead of
 one lies within r_c = 1 of a tail bead of the other (minimum image). The script writes the
 aggregation-number distribution (molecules per aggregate, weighted by molecule) averaged over the
-last third of the frames, its time series (number of aggregates and the largest), and a snapshot
-plot.
+last third of the frames with the number of aggregates of each size per frame, its time series
+(number of aggregates and the largest), and a snapshot plot.
 
     /usr/bin/python3 examples/amphiphiles/micelles.py --mesodpd build/mesodpd --out out/amphiphiles \
-        [--sequence H3T4] [--fraction 0.1] [--box 12] [--steps 20000]
+        [--sequence H3T4] [--fraction 0.1] [--box 12] [--steps 20000] [--every 200] [--analyse-only]
+
+--analyse-only reads the trajectory already in --out (for instance after continuing the run from its
+checkpoint with `mesodpd run <out>/config.toml --out <out> --restart <out>/checkpoint.mdpd --steps N`,
+which gives the bits of an uninterrupted run).
 """
 import argparse
 import csv
@@ -112,7 +116,17 @@ def aggregates(pos, mol, is_tail, box):
     g = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(mols), len(mols)))
     _, label = connected_components(g, directed=False)
     sizes = np.bincount(label)
-    return sizes  # molecules per aggregate
+    return sizes, label, mols  # molecules per aggregate; aggregate of each molecule id in mols
+
+
+def shape(pos, box):
+    """Principal radii of gyration (ascending) of a cluster of beads in a periodic cubic box: each
+    axis centred on its circular mean, then minimum image."""
+    theta = 2 * np.pi * pos / box
+    centre = box * (np.arctan2(-np.sin(theta).mean(0), -np.cos(theta).mean(0)) + np.pi) / (2 * np.pi)
+    d = pos - centre
+    d -= box * np.round(d / box)
+    return np.sqrt(np.linalg.eigvalsh(d.T @ d / len(d)))
 
 
 def main():
@@ -126,6 +140,8 @@ def main():
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seed", type=int, default=11)
+    ap.add_argument("--every", type=int, default=0, help="trajectory frame interval (default: steps / 100)")
+    ap.add_argument("--analyse-only", action="store_true", help="analyse the trajectory already in --out")
     a = ap.parse_args()
     import re
 
@@ -137,11 +153,12 @@ def main():
     water = total - molecules * beads
     os.makedirs(a.out, exist_ok=True)
     cfg = os.path.join(a.out, "config.toml")
-    every = max(1, a.steps // 100)
-    with open(cfg, "w") as f:
-        f.write(CONFIG.format(box=a.box, seed=a.seed, water=water, sequence=a.sequence, molecules=molecules,
-                              steps=a.steps, every=every))
-    subprocess.run([a.mesodpd, "run", cfg, "--out", a.out, "--threads", str(a.threads)], check=True)
+    every = a.every if a.every > 0 else max(1, a.steps // 100)
+    if not a.analyse_only:
+        with open(cfg, "w") as f:
+            f.write(CONFIG.format(box=a.box, seed=a.seed, water=water, sequence=a.sequence, molecules=molecules,
+                                  steps=a.steps, every=every))
+        subprocess.run([a.mesodpd, "run", cfg, "--out", a.out, "--threads", str(a.threads)], check=True)
 
     import sys
 
@@ -162,7 +179,7 @@ def main():
         n_frames = len(traj)
         for k, frame in enumerate(traj):
             is_tail = np.asarray(frame.particles.typeid) == types.index("T")
-            sizes = aggregates(np.asarray(frame.particles.position, float), mol, is_tail, a.box)
+            sizes, label, mols = aggregates(np.asarray(frame.particles.position, float), mol, is_tail, a.box)
             rows.append((int(frame.configuration.step), len(sizes), int(sizes.max()), float(np.mean(sizes))))
             if k >= 2 * n_frames // 3:
                 hist.append(sizes)
@@ -178,13 +195,23 @@ def main():
         w = csv.writer(f)
         w.writerow(["step", "aggregates", "largest", "mean_size"])
         w.writerows(rows)
+    # Aggregates of each size per frame (number distribution).
+    per_frame = np.bincount(allsizes, minlength=nmax + 1) / len(hist)
     with open(os.path.join(a.out, "aggregation_number.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["size", "molecule_fraction"])
+        w.writerow(["size", "molecule_fraction", "aggregates_per_frame"])
         for s in range(1, nmax + 1):
             if weight[s] > 0:
-                w.writerow([s, f"{weight[s]:.5f}"])
+                w.writerow([s, f"{weight[s]:.5f}", f"{per_frame[s]:.4f}"])
     free = weight[1] if nmax >= 1 else 0.0
+    # Shapes of the aggregates of the last frame (10 molecules or more): principal radii of gyration
+    # of all their beads; a sphere has three equal radii, a rod one large, a disc one small.
+    in_agg = {m: label[k] for k, m in enumerate(mols)}
+    for g in np.flatnonzero(sizes >= 10):
+        members = np.array([in_agg.get(m, -1) == g for m in mol])
+        r = shape(np.mod(last_pos[members], a.box), a.box)
+        print(f"last frame: aggregate of {sizes[g]} molecules, principal radii of gyration "
+              f"{r[0]:.2f}, {r[1]:.2f}, {r[2]:.2f}")
     print(f"{molecules} x {a.sequence} in {water} W (bead fraction {molecules * beads / total:.3f}); last third: "
           f"{np.mean([r[1] for r in rows[2 * n_frames // 3:]]):.1f} aggregates on average, molecule-weighted mean "
           f"aggregation number {mean_weighted:.1f}, free molecules {100 * free:.1f}%, largest {nmax}")
