@@ -38,6 +38,27 @@ enum class PairStyle { Dpd, Soft, Mdpd, Spline };
 enum class DensityKernelChoice { Warren, Lucy };
 enum class VelocityInit { Maxwell, File, Zero };
 
+// One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp; also the
+// region a generated species is placed in ([[species]] region).
+enum class ShapeKind { Plane, Cylinder, Sphere, Box, Pillars, Image, Union, Difference };
+enum class Lattice { Square, Hexagonal };
+struct ShapeSpec {
+  ShapeKind kind = ShapeKind::Plane;
+  std::array<double, 3> point{0, 0, 0};      // plane: a point of the surface; pillars: lattice origin
+  std::array<double, 3> normal{0, 0, 1};     // plane: unit normal pointing into the fluid
+  std::array<double, 3> center{0, 0, 0};     // cylinder, sphere
+  std::array<double, 3> direction{0, 0, 1};  // cylinder: axis direction (any, normalised by validate)
+  double radius = 0.0;                       // cylinder, sphere, pillars
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};  // box corners
+  Lattice lattice = Lattice::Square;         // pillars
+  double spacing = 0.0;                      // pillars: centre-to-centre distance L
+  int axis = 2;                              // pillars: pillar axis; image: extrusion axis of a 2-D image
+  std::string file;                          // image: PGM (2-D, extruded) or MESODPD-VOXELS (3-D) file
+  double voxel_size = 0.0;                   // image: edge of one pixel/voxel (image extent == box)
+  bool invert = false;                       // image: swap solid and fluid
+  std::vector<ShapeSpec> parts;              // union, difference (first minus the others)
+};
+
 struct SpeciesSpec {
   std::string name;                            // [[species]] name
   double mass = 1.0;                           // [[species]] mass (> 0)
@@ -47,6 +68,9 @@ struct SpeciesSpec {
   std::uint64_t count = 0;                     // [[species]] count, or round(density x box volume)
   Placement placement = Placement::Random;     // [[species]] placement
   bool frozen = false;                         // [[species]] frozen: wall particles, never integrated
+  // [[species]] region: generated particles of this species are kept only inside this shape (signed
+  // distance < 0) or inside a [[solid]] (they become its wall particles); count/density are of the box.
+  std::optional<ShapeSpec> region;
 };
 
 // DPD pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
@@ -236,26 +260,6 @@ struct MoleculeSpec {
 
 // [bonds]: treatment of bonded pairs by the pair force (LAMMPS special_bonds with factors 0 or 1).
 enum class BondExclusion { None, OneTwo, OneThree };
-
-// One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp.
-enum class ShapeKind { Plane, Cylinder, Sphere, Box, Pillars, Image, Union, Difference };
-enum class Lattice { Square, Hexagonal };
-struct ShapeSpec {
-  ShapeKind kind = ShapeKind::Plane;
-  std::array<double, 3> point{0, 0, 0};      // plane: a point of the surface; pillars: lattice origin
-  std::array<double, 3> normal{0, 0, 1};     // plane: unit normal pointing into the fluid
-  std::array<double, 3> center{0, 0, 0};     // cylinder, sphere
-  std::array<double, 3> direction{0, 0, 1};  // cylinder: axis direction (any, normalised by validate)
-  double radius = 0.0;                       // cylinder, sphere, pillars
-  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};  // box corners
-  Lattice lattice = Lattice::Square;         // pillars
-  double spacing = 0.0;                      // pillars: centre-to-centre distance L
-  int axis = 2;                              // pillars: pillar axis; image: extrusion axis of a 2-D image
-  std::string file;                          // image: PGM (2-D, extruded) or MESODPD-VOXELS (3-D) file
-  double voxel_size = 0.0;                   // image: edge of one pixel/voxel (image extent == box)
-  bool invert = false;                       // image: swap solid and fluid
-  std::vector<ShapeSpec> parts;              // union, difference (first minus the others)
-};
 
 // [[solid]]: one body of frozen wall particles (the drag is measured per body).
 struct SolidSpec {

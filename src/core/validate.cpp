@@ -824,6 +824,21 @@ void validate_shape(const std::string& key, const ShapeSpec& sh, const Simulatio
   }
 }
 
+// [[species]] region: the shape a generated species is placed in (particles falling inside a
+// [[solid]] still become its wall particles). Its shape keys are checked as a solid's, without the
+// thickness rule (no fluid lies on the far side of a region).
+void validate_regions(SimulationSpec& spec) {
+  for (std::size_t k = 0; k < spec.species.size(); ++k) {
+    const SpeciesSpec& sp = spec.species[k];
+    if (!sp.region) continue;
+    if (sp.frozen)
+      fail(species_key(k, "region"), "", "not allowed for a frozen species (its particles are the fluid frozen inside [[solid]] blocks)");
+    if (!spec.data_file.empty())
+      fail(species_key(k, "region"), "", "not allowed with init.lammps_data (particles come from the data file)");
+    validate_shape(species_key(k, "region"), *sp.region, spec, 0.0);
+  }
+}
+
 void validate_walls(SimulationSpec& spec) {
   WallsSpec& w = spec.walls;
   check("walls.layer", w.layer, Range{0.0, 1.0, true, true});
@@ -956,7 +971,7 @@ using Section = void (*)(SimulationSpec&);
 constexpr Section kSections[] = {
     validate_system, validate_init,   validate_species,    validate_pairs,    validate_integrator,
     validate_run,    validate_neighbor, validate_parallel, validate_output,   validate_poiseuille,
-    validate_analysis, validate_fields, validate_walls, validate_topology, validate_engine_limits,
+    validate_analysis, validate_fields, validate_walls, validate_regions, validate_topology, validate_engine_limits,
 };
 
 }  // namespace

@@ -281,6 +281,11 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
   // placed clear of them (random_walk).
   std::optional<Geometry> geometry;
   if (!spec.solids.empty()) geometry.emplace(spec.solids, box);
+  // [[species]] region: a species' free particles outside its region are not created (their draws
+  // are skipped, so the others keep their positions); inside a solid they still make the wall.
+  std::vector<std::unique_ptr<Shape>> regions(spec.species.size());
+  for (std::size_t s = 0; s < spec.species.size(); ++s)
+    if (spec.species[s].region) regions[s] = make_shape(*spec.species[s].region, box, fmt::format("species[{}].region", s));
   // Visits every particle in id order; positions are functions of the draw number (the id when there
   // are no solids), of the lattice site, or of the molecule's random walk.
   auto for_each_particle = [&](auto&& f) {
@@ -336,6 +341,7 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
             q.body = b + 1;
           }
         }
+        if (q.body == 0 && regions[s] && !(regions[s]->sdf(Vec3{x, y, z}) < 0)) continue;
         q.id = next_id++;
         q.r = {x, y, z};
         f(q);
@@ -387,7 +393,8 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
 }
 
 std::uint64_t check_initial_state(const SimulationSpec& spec) {
-  if (spec.data_file.empty() && spec.solids.empty()) {
+  const bool any_region = std::any_of(spec.species.begin(), spec.species.end(), [](const SpeciesSpec& s) { return s.region.has_value(); });
+  if (spec.data_file.empty() && spec.solids.empty() && !any_region) {
     std::uint64_t n = 0;
     for (const auto& s : spec.species) n += s.count;
     for (const auto& m : spec.molecules) n += m.count * m.beads.size();

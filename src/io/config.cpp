@@ -370,9 +370,11 @@ void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spe
                         .value_or(spec.data_file.empty() ? VelocityInit::Maxwell : VelocityInit::File);
 }
 
-void read_species(const Section& top, SimulationSpec& spec) {
-  const std::vector<Section> list =
-      top.tables("species", {"name", "mass", "a", "body_force", "density", "count", "placement", "frozen"});
+ShapeSpec read_shape(const Section& s, const fs::path& base_dir);
+
+void read_species(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
+  const std::vector<Section> list = top.tables(
+      "species", {"name", "mass", "a", "body_force", "density", "count", "placement", "frozen", "region"});
   if (list.empty()) top.missing("species", " (at least one [[species]] block is needed)");
   const bool from_data = !spec.data_file.empty();
   for (const Section& s : list) {
@@ -388,12 +390,12 @@ void read_species(const Section& top, SimulationSpec& spec) {
     sp.frozen = s.boolean("frozen").value_or(false);
     if (sp.frozen) {
       // Frozen (wall) particles are made by freezing the fluid inside [[solid]] blocks.
-      for (const std::string_view key : {"count", "density", "placement"})
+      for (const std::string_view key : {"count", "density", "placement", "region"})
         if (s.has(key)) s.bad(key, "not allowed for a frozen species (its particles are the fluid frozen inside [[solid]] blocks)");
     } else if (from_data) {
       // Positions, and so counts, come from the data file (validate() refuses a density; a count or
       // placement, even a zero or the default one, is refused here where its presence is known).
-      for (const std::string_view key : {"count", "placement"}) {
+      for (const std::string_view key : {"count", "placement", "region"}) {
         if (s.has(key)) s.bad(key, "not allowed with init.lammps_data (particles come from the data file)");
       }
     } else {
@@ -407,6 +409,7 @@ void read_species(const Section& top, SimulationSpec& spec) {
     sp.placement =
         s.choice<Placement>("placement", {{"random", Placement::Random}, {"lattice", Placement::Lattice}})
             .value_or(Placement::Random);
+    if (const auto region = s.table("region", kShapeKeys)) sp.region = read_shape(*region, base_dir);
     spec.species.push_back(std::move(sp));
   }
 }
@@ -834,7 +837,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   spec.source = source_name;
   read_system(top, spec);
   read_init(top, base_dir, spec);
-  read_species(top, spec);
+  read_species(top, base_dir, spec);
   read_pair(top, spec);
   read_topology(top, spec);
   read_integrator(top, spec);

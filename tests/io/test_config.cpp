@@ -715,6 +715,31 @@ TEST(Config, RejectsBadInit) {
   EXPECT_TRUE(spec.init_velocities);
 }
 
+TEST(Config, SpeciesRegionIsAShapeCheckedLikeASolid) {
+  // [[species]] region restricts where a generated species is placed (examples/wetting).
+  const std::string head = "[system]\nbox = [10, 10, 10]\n[[species]]\nname = \"A\"\ndensity = 3\n";
+  const SimulationSpec spec =
+      parse_config(head + "region = {shape = \"sphere\", center = [5, 5, 5], radius = 3}\n", "t.toml");
+  ASSERT_TRUE(spec.species[0].region.has_value());
+  EXPECT_EQ(spec.species[0].region->kind, ShapeKind::Sphere);
+  EXPECT_EQ(spec.species[0].region->radius, 3.0);
+  expect_error(head + "region = {shape = \"sphere\", center = [5, 5, 5]}\n", {"species[0].region.radius", "missing"});
+  expect_error(head + "region = {shape = \"sphere\", center = [5, 5, 5], radius = -1}\n", {"species[0].region.radius"});
+  expect_error(head + "region = {shape = \"sphere\", centre = [5, 5, 5], radius = 1}\n", {"species[0].region.centre"});
+  expect_error(head + "region = \"sphere\"\n", {"species[0].region", "table"});
+  // A half space along a periodic axis is refused as for a solid (use a box).
+  expect_error(head + "region = {shape = \"plane\", point = [0, 0, 5], normal = [0, 0, 1]}\n",
+               {"species[0].region.normal", "periodic"});
+  expect_error(head + "[[species]]\nname = \"W\"\nfrozen = true\nregion = {shape = \"sphere\", center = [5, 5, 5], radius = 3}\n",
+               {"species[1].region", "frozen"});
+  const TempDir dir;
+  const fs::path data = dir.write("a.data", "LAMMPS data file\n");
+  expect_error("[system]\nbox = [10, 10, 10]\n[[species]]\nname = \"A\"\n"
+               "region = {shape = \"sphere\", center = [5, 5, 5], radius = 3}\n[init]\nlammps_data = \"" +
+                   data.string() + "\"\n",
+               {"species[0].region", "init.lammps_data"});
+}
+
 // The source tree: $MESODPD_SOURCE (set by ctest), else derived from this file's path.
 fs::path source_root() {
   if (const char* root = std::getenv("MESODPD_SOURCE")) return root;

@@ -271,11 +271,14 @@ TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
 // forward to the ghosts, then the force pass): Warren's liquid with two species (different A_ij) and
 // Lucy's kernel gives byte-identical checkpoints, thermo rows and trajectories on 1, 2 and 4 ranks and
 // 2 ranks x 2 threads, and a run restarted from a 2-rank checkpoint on 4 ranks continues identically.
+// B starts inside a ball across the periodic face x = 0 ([[species]] region): every rank creates the
+// same particles while it keeps only its own.
 TEST(Mpi, ManyBodyRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
   const fs::path dir = fresh_dir();
   const std::string cfg =
       "[system]\nbox = [8.0, 8.0, 8.0]\nkT = 1.0\nseed = 303\n\n"
-      "[[species]]\nname = \"A\"\ndensity = 3.0\n\n[[species]]\nname = \"B\"\ndensity = 1.5\n\n"
+      "[[species]]\nname = \"A\"\ndensity = 3.0\n\n[[species]]\nname = \"B\"\ndensity = 1.5\n"
+      "region = {shape = \"sphere\", center = [1.0, 4.0, 4.0], radius = 3.0}\n\n"
       "[pair]\nstyle = \"mdpd\"\na = -40.0\nb = 25.0\nrd = 0.75\ngamma = 4.5\nkernel = \"lucy\"\n\n"
       "[[pair.override]]\nspecies = [\"A\", \"B\"]\na = -30.0\n\n"
       "[integrator]\ndt = 0.01\n\n[run]\nsteps = 400\n\n"

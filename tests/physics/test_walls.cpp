@@ -4,8 +4,11 @@
 // (sign, and the momentum balance of a driven channel in steady state).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "boundary/walls.hpp"
 #include "engine/pair_laws.hpp"
@@ -92,6 +95,43 @@ TEST(Walls, FrozenShellIsBuiltFromTheFluidAndNothingDeeper) {
   const double solid_volume = 8.0 * 5.0 * 2.0 + M_PI * (1.2 * 1.2 - 0.2 * 0.2) * 5.0;
   EXPECT_NEAR(static_cast<double>(fluid) / fluid_volume, 3.0, 0.25);
   EXPECT_NEAR(static_cast<double>(frozen) / solid_volume, 3.0, 0.3);
+}
+
+TEST(Walls, SpeciesRegionKeepsItsFluidInsideAndTheWholeWall) {
+  // examples/wetting: the fluid is kept only inside its region (here a ball in the channel), but the
+  // walls are built from the whole box's draws as without a region, so they are the same.
+  std::string with_region = channel(kPillar);
+  const std::string at = "density = 3\n";
+  with_region.replace(with_region.find(at), at.size(), at + "region = {shape = \"sphere\", center = [0, 2.5, 4], radius = 1.8}\n");
+  const SimulationSpec plain = spec_of(channel(kPillar)), spec = spec_of(with_region);
+  Simulation a(plain, RunOptions{}), b(spec, RunOptions{});
+  const ParticleData &p = a.particles(), &q = b.particles();
+  std::vector<std::array<double, 3>> wall_a, wall_b;
+  std::size_t fluid = 0;
+  std::vector<std::uint32_t> ids;
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    if (p.body[i] != 0) wall_a.push_back({p.x[i], p.y[i], p.z[i]});
+  for (std::size_t i = 0; i < q.n_local; ++i) {
+    ids.push_back(q.id[i]);
+    if (q.body[i] != 0) {
+      wall_b.push_back({q.x[i], q.y[i], q.z[i]});
+    } else {
+      ++fluid;
+      const double dx = std::min(q.x[i], 8.0 - q.x[i]);  // nearest periodic image of the centre x = 0
+      EXPECT_LT(std::hypot(dx, q.y[i] - 2.5, q.z[i] - 4), 1.8) << "fluid particle outside its region";
+    }
+  }
+  // Ids are consecutive (1..N) in any order (the particles are sorted by cell).
+  std::sort(ids.begin(), ids.end());
+  for (std::size_t k = 0; k < ids.size(); ++k) ASSERT_EQ(ids[k], k + 1);
+  std::sort(wall_a.begin(), wall_a.end());
+  std::sort(wall_b.begin(), wall_b.end());
+  EXPECT_EQ(wall_a, wall_b);
+  // The ball (across the periodic face x = 0, clear of the plates and the pillar) holds density 3:
+  // its count within 4 Poisson standard deviations.
+  const double expected = 3.0 * 4 * M_PI / 3 * 1.8 * 1.8 * 1.8;
+  EXPECT_NEAR(static_cast<double>(fluid), expected, 4 * std::sqrt(expected));
+  EXPECT_EQ(b.total_particles(), q.n_local);
 }
 
 TEST(Walls, PairLoopSkipsFrozenPairsAndEqualsTheReferenceLoop) {
