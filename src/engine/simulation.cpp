@@ -227,7 +227,10 @@ void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bo
   // Excluded bonded pairs (bonds.exclude): the pair loop's own passes recompute their pair force, which
   // is subtracted in integers, so the shared loop needs no per-pair test.
   const PairSubtractor subtract = [&](std::span<const std::uint32_t> pairs, std::int64_t* fixed, std::int64_t* totals) {
-    forces_.subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals);
+    // Many-body laws read the local densities of this step's density pass (locals and ghosts, the same
+    // storage order as the pairs' indices).
+    forces_.subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals,
+                           density_ ? rho_.data() : nullptr);
   };
   const double t0 = omp_get_wtime();
   const std::optional<BondProblem> problem =

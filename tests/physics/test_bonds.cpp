@@ -347,9 +347,13 @@ TEST(Bonded, RestartIsBitIdentical) {
 }
 
 // Excluded pairs lose exactly their pair force: a lone trimer with zero-strength bonds feels only the
-// pair forces of the pairs that are not excluded (all three are within the cutoff).
-TEST(Bonded, ExcludedPairsLoseExactlyTheirPairForce) {
-  auto forces_of = [](const std::string& exclude) {
+// pair forces of the pairs that are not excluded (all three are within the cutoff). Standard DPD and
+// many-body DPD (whose excluded pairs are re-evaluated with the step's local densities).
+class ExcludedPairs : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExcludedPairs, LoseExactlyTheirPairForce) {
+  const std::string pair_section = GetParam();
+  auto forces_of = [&](const std::string& exclude) {
     const std::string text = fmt::format(R"(
 [system]
 box = [5.0, 5.0, 5.0]
@@ -358,9 +362,7 @@ seed = 3
 [[species]]
 name = "A"
 
-[pair]
-a = 25.0
-gamma = 4.5
+{}
 
 [[bond_type]]
 name = "none"
@@ -380,7 +382,7 @@ exclude = "{}"
 [output]
 progress = false
 )",
-                                         exclude);
+                                         pair_section, exclude);
     Simulation sim(parse_config(text, "x.toml"), RunOptions{});
     sim.step();
     const ParticleData& p = sim.particles();
@@ -398,6 +400,15 @@ progress = false
   for (double v : none) EXPECT_NE(v, 0.0);
   // 1-3: nothing is left, exactly.
   for (double v : one_three) EXPECT_EQ(v, 0.0);
+  if (pair_section.find("mdpd") != std::string::npos) {
+    // Many-body DPD: only the forces are asserted (its energy is not a pair sum).
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_EQ(one_two[3 + d], 0.0);
+      EXPECT_EQ(one_two[d], -one_two[6 + d]);
+      EXPECT_NE(one_two[d], 0.0);
+    }
+    return;
+  }
   EXPECT_EQ(t13.potential_energy, 0.0);
   // 1-2: only the pair (1, 3) acts: equal and opposite on 1 and 3, nothing on the middle bead.
   for (int d = 0; d < 3; ++d) {
@@ -408,6 +419,11 @@ progress = false
   EXPECT_GT(t12.potential_energy, 0.0);
   EXPECT_LT(t12.potential_energy, t_none.potential_energy);
 }
+
+INSTANTIATE_TEST_SUITE_P(Bonded, ExcludedPairs,
+                         ::testing::Values("[pair]\na = 25.0\ngamma = 4.5",
+                                           "[pair]\nstyle = \"mdpd\"\na = -40.0\nb = 25.0\nrd = 0.75\ngamma = 4.5"),
+                         [](const auto& info) { return info.index == 0 ? std::string("Dpd") : std::string("ManyBody"); });
 
 // A LAMMPS data file with Bonds and Angles (atom_style molecular) starts a run with that topology; a bond
 // type without a [[bond_type]] block is refused naming the file.
