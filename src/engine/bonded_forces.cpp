@@ -198,6 +198,31 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   auto run = [&]<bool kAtomic>() {
 #pragma omp parallel for schedule(static) reduction(+ : acc[:8]) reduction(min : problem)
     for (std::size_t i = 0; i < n; ++i) {
+      // The loop is bound by cache misses on a chain of dependent loads (the owner's entry in
+      // bond_start_, its first bond, the partner's id-map entry, the partner's position and force), so
+      // each link is prefetched a few owners ahead, the next link once the previous one has arrived.
+      // Hints only: the results do not depend on them.
+      if (i + 24 < n && p.id[i + 24] <= max_owner) __builtin_prefetch(bond_start_.data() + p.id[i + 24]);
+      if (i + 16 < n && p.id[i + 16] <= max_owner) {
+        const std::uint32_t k = bond_start_[p.id[i + 16]];
+        if (k < owned_bonds_.size()) __builtin_prefetch(owned_bonds_.data() + k);
+      }
+      if (i + 8 < n && p.id[i + 8] <= max_owner) {
+        const std::uint32_t v = p.id[i + 8];
+        if (bond_start_[v] < bond_start_[v + 1]) ids_.prefetch(owned_bonds_[bond_start_[v]].partner);
+      }
+      if (i + 4 < n && p.id[i + 4] <= max_owner) {
+        const std::uint32_t v = p.id[i + 4];
+        if (bond_start_[v] < bond_start_[v + 1]) {
+          const std::uint32_t j = ids_.find(owned_bonds_[bond_start_[v]].partner);
+          if (j != IdMap::kNotHere) {
+            __builtin_prefetch(p.x.data() + j);
+            __builtin_prefetch(p.y.data() + j);
+            __builtin_prefetch(p.z.data() + j);
+            __builtin_prefetch(f + 3 * static_cast<std::size_t>(j), 1);
+          }
+        }
+      }
       const std::uint32_t u = p.id[i];
       if (u > max_owner) continue;
       terms.template operator()<kAtomic>(i, u, acc, problem);
