@@ -34,6 +34,8 @@ import subprocess
 
 import numpy as np
 
+from micelles import INTERACTIONS  # the same molecules and parameters
+
 CONFIG = """
 [system]
 box = [{lx:.10f}, {lx:.10f}, {lz:.10f}]
@@ -53,37 +55,7 @@ name = "T"
 lammps_data = "bilayer.data"
 velocities = "maxwell"
 
-[pair]
-a = 25.0
-gamma = 4.5
-
-[[pair.override]]
-species = ["H", "H"]
-a = 30.0
-
-[[pair.override]]
-species = ["H", "W"]
-a = 35.0
-
-[[pair.override]]
-species = ["H", "T"]
-a = 50.0
-
-[[pair.override]]
-species = ["T", "W"]
-a = 75.0
-
-[[bond_type]]
-name = "spring"
-style = "harmonic"
-k = 128.0
-r0 = 0.5
-
-[[angle_type]]
-name = "stiff"
-k = 20.0
-theta0 = 0.0
-
+""" + INTERACTIONS + """
 [integrator]
 dt = 0.02
 

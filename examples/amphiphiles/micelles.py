@@ -28,22 +28,8 @@ import subprocess
 
 import numpy as np
 
-CONFIG = """
-[system]
-box = [{box}, {box}, {box}]
-kT = 1.0
-seed = {seed}
-
-[[species]]
-name = "W"
-count = {water}
-
-[[species]]
-name = "H"
-
-[[species]]
-name = "T"
-
+# The pair and bonded interactions, shared with bilayer.py.
+INTERACTIONS = """\
 [pair]
 a = 25.0
 gamma = 4.5
@@ -74,7 +60,25 @@ r0 = 0.5
 name = "stiff"
 k = 20.0
 theta0 = 0.0
+"""
 
+CONFIG = """
+[system]
+box = [{box}, {box}, {box}]
+kT = 1.0
+seed = {seed}
+
+[[species]]
+name = "W"
+count = {water}
+
+[[species]]
+name = "H"
+
+[[species]]
+name = "T"
+
+""" + INTERACTIONS + """
 [[molecule]]
 name = "amphiphile"
 sequence = "{sequence}"
