@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "analysis/observers.hpp"
+#include "analysis/thermo.hpp"
 #include "boundary/external_fields.hpp"
 #include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
@@ -200,6 +201,18 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                                          }});
     observer_settings.columns.push_back(
         {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
+    // Flows between walls stream: the temperature of the velocities relative to the mean velocity of
+    // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too).
+    std::array<int, 3> bins{};
+    for (int d = 0; d < 3; ++d)
+      bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / forces_.max_cutoff()));
+    std::vector<std::uint8_t> frozen;
+    for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
+    observer_settings.temperature_column = static_cast<int>(observer_settings.columns.size());
+    observer_settings.columns.push_back({"temperature_peculiar", [bins, frozen](const StepContext& ctx) {
+                                           return peculiar_temperature(ctx.particles, ctx.species_mass, ctx.box, bins,
+                                                                       ctx.comm, frozen);
+                                         }});
   }
   observers_ = &stages_.add(StagePoint::EndOfStep, std::make_unique<Observers>(spec_, std::move(observer_settings), context()));
   if (!pending_observer_state_.empty()) {
