@@ -39,6 +39,33 @@ Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
     if (!s.frozen) mass += s.mass * static_cast<double>(s.count);
   fill_density_ = mass / box.volume();
   impulse_.assign(3 * geometry_.bodies(), 0);
+  // The far-field grid: cells about 0.5 wide (wider in large boxes: at most ~2 million cells).
+  const double len[3] = {box.len.x, box.len.y, box.len.z};
+  const double width = std::max(0.5, std::cbrt(box.volume() / 2.0e6));
+  double half_diagonal = 0;
+  for (int d = 0; d < 3; ++d) {
+    const int n = std::max(1, static_cast<int>(std::ceil(len[d] / width)));
+    bound_cells_[static_cast<std::size_t>(d)] = n;
+    bound_inverse_width_[static_cast<std::size_t>(d)] = n / len[d];
+    half_diagonal += 0.25 * (len[d] / n) * (len[d] / n);
+  }
+  half_diagonal = std::sqrt(half_diagonal);
+  bound_.resize(static_cast<std::size_t>(bound_cells_[0]) * static_cast<std::size_t>(bound_cells_[1]) *
+                static_cast<std::size_t>(bound_cells_[2]));
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < bound_.size(); ++k) {
+    const std::size_t ix = k % static_cast<std::size_t>(bound_cells_[0]);
+    const std::size_t iy = (k / static_cast<std::size_t>(bound_cells_[0])) % static_cast<std::size_t>(bound_cells_[1]);
+    const std::size_t iz = k / (static_cast<std::size_t>(bound_cells_[0]) * static_cast<std::size_t>(bound_cells_[1]));
+    const Vec3 centre{(static_cast<double>(ix) + 0.5) * len[0] / bound_cells_[0],
+                      (static_cast<double>(iy) + 0.5) * len[1] / bound_cells_[1],
+                      (static_cast<double>(iz) + 0.5) * len[2] / bound_cells_[2]};
+    const double lower = geometry_.sdf(centre) - std::sqrt(3.0) * half_diagonal;
+    // Rounded towards minus infinity so that the float is still a lower bound.
+    float f = static_cast<float>(lower);
+    if (static_cast<double>(f) > lower) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    bound_[k] = f;
+  }
   const WallsSpec& w = spec.walls;
   // Blocks that do not depend on the run length, so that a restart continues them exactly.
   drag_blocks_ = BlockRows(6 * geometry_.bodies(), static_cast<std::size_t>(w.drag_blocks));
@@ -152,8 +179,21 @@ Vec3 Walls::reflected(const Vec3& u, const Vec3& nrm, double m, std::uint64_t st
   }
 }
 
-template <class Act>
-void Walls::for_near_wall(StepContext& ctx, double below, Act&& act) {
+double Walls::distance_bound(const Vec3& r) const {
+  const double q[3] = {r.x, r.y, r.z};
+  std::size_t k = 0;
+  for (int d = 2; d >= 0; --d) {
+    const int n = bound_cells_[static_cast<std::size_t>(d)];
+    // Positions are wrapped or inside a bounded box; clamping also keeps a stray NaN harmless.
+    int c = static_cast<int>(q[d] * bound_inverse_width_[static_cast<std::size_t>(d)]);
+    c = c < 0 ? 0 : (c >= n ? n - 1 : c);
+    k = k * static_cast<std::size_t>(n) + static_cast<std::size_t>(c);
+  }
+  return bound_[k];
+}
+
+template <class Far, class Act>
+void Walls::for_near_wall(StepContext& ctx, double below, Far&& far, Act&& act) {
   ParticleData& p = ctx.particles;
   const std::size_t n = p.n_local, nb = geometry_.bodies();
 #pragma omp parallel
@@ -164,11 +204,12 @@ void Walls::for_near_wall(StepContext& ctx, double below, Act&& act) {
     for (std::size_t i = 0; i < n; ++i) {
       if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
       const Vec3 r{p.x[i], p.y[i], p.z[i]};
+      const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
+      if (far(i, m, distance_bound(r))) continue;
       int b = -1;
       const double d = geometry_.sdf(r, b);
       if (!(d < below)) continue;
       // act() returns the velocity change of the particle (zero if none).
-      const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
       const Vec3 dv = act(i, r, d, b, m, count);
       // The wall takes the momentum the particle gains, with the opposite sign, as a force over dt.
       impulse[3 * static_cast<std::size_t>(b)] -= fixed(m * dv.x / ctx.dt);
@@ -189,7 +230,9 @@ void Walls::mirror_positions(StepContext& ctx) {
   ParticleData& p = ctx.particles;
   const Box& box = ctx.box;
   counted_ = {0, 0};
-  for_near_wall(ctx, 0.0, [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
+  // A particle whose distance bound is not negative is outside every solid.
+  auto far = [](std::size_t, double, double bound) { return bound >= 0.0; };
+  for_near_wall(ctx, 0.0, far, [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
     // Inside the solid: mirror the position through the surface; where the mirror image is still inside
     // (a concave corner, a staircase image surface), step out along the normal.
     ++count[0];
@@ -239,7 +282,13 @@ void Walls::reflect_velocities(StepContext& ctx) {
   const double kick = half_velocity_ ? 0.5 * dt * dt : 0.0;
   const double layer = spec_.walls.layer;
   counted_ = {0, 0};
-  for_near_wall(ctx, std::numeric_limits<double>::infinity(),
+  // Out of reach: at least layer + twice the next move from every surface (act() below returns no change
+  // for such a particle; the bound only saves evaluating the geometry).
+  auto far = [&](std::size_t i, double m, double bound) {
+    const Vec3 s = dt * Vec3{p.vx[i], p.vy[i], p.vz[i]} + (kick / m) * Vec3{p.fx[i], p.fy[i], p.fz[i]};
+    return bound >= layer + 2.0 * std::sqrt(dot(s, s));
+  };
+  for_near_wall(ctx, std::numeric_limits<double>::infinity(), far,
                 [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
     const Vec3 f{p.fx[i], p.fy[i], p.fz[i]};
     const Vec3 v0{p.vx[i], p.vy[i], p.vz[i]};
