@@ -5,7 +5,7 @@
 # does not. Matplotlib's Agg backend: no display needed.
 #
 # usage: tools/plot_fields.py FIELDS_CSV [--json FIELDS_JSON] [--out-dir DIR] [--prefix NAME]
-#                             [--average-axis x|y|z] [--title TEXT] [--dpi N]
+#                             [--average-axis x|y|z] [--title TEXT] [--dpi N] [--min-density RHO]
 #   FIELDS_CSV  <name>.csv written by mesodpd (columns ix,iy,iz,x,y,z,density,density_<species>...,
 #               vx,vy,vz,temperature,temperature_x,temperature_y,temperature_z; one row per bin, x fastest)
 #   --json      <name>.json beside it (default: same stem); its slab fit is drawn on a 1-D profile
@@ -207,6 +207,9 @@ def main(argv=None):
     parser.add_argument("--average-axis", choices=list(AXES), help="for a 3-D grid: the axis averaged over")
     parser.add_argument("--title", default="", help="text put in front of each picture's title")
     parser.add_argument("--dpi", type=int, default=150, help="resolution of the PNGs (default 150)")
+    parser.add_argument("--min-density", type=float, default=0.0,
+                        help="leave bins whose density is below this blank in the velocity, speed and temperature "
+                             "maps (bins cut by a solid hold few particles and noisy means; default 0: none)")
     args = parser.parse_args(argv)
     global DPI
     DPI = args.dpi
@@ -228,6 +231,11 @@ def main(argv=None):
         columns = average_over(columns, axis)
         shape = tuple(1 if d == axis else shape[d] for d in range(3))
         dims = [d for d in range(3) if shape[d] > 1]
+    if args.min_density > 0:
+        thin = ~(columns["density"] >= args.min_density)
+        for name in columns:
+            if not name.startswith("density") and name not in ("ix", "iy", "iz", "x", "y", "z"):
+                columns[name] = np.where(thin, np.nan, columns[name])
     if len(dims) == 2:
         written = plot_maps(columns, shape, out_dir, prefix, args.title)
     else:

@@ -268,12 +268,20 @@ void Walls::reflect_velocities(StepContext& ctx) {
     }
     // A reflected (or outgoing) particle that the force kick alone would still carry in: the solid is
     // impenetrable, so it takes the normal momentum that stops the move on its surface (rare: a large
-    // random force on a particle within a few hundredths of the surface).
-    for (int tries = 0; tries < 4; ++tries) {
-      const int into = entered(v, depth);
-      if (into < 0) break;
-      v = v + (-depth / dt * (1 + 1e-9) + 1e-12) * geometry_.normal(r, into);
+    // random force on a particle within a few hundredths of the surface). Where the normal is not the
+    // gradient of the signed distance (an image surface: the normal comes from the smoothed indicator,
+    // the distance from the staircase of cells, up to ~45 degrees apart at a step), a push of the depth
+    // leaves the end point a fraction of it inside: later pushes double until it is out, and if that
+    // fails the move stops where the particle is (outside: earlier penetrations were mirrored out).
+    // Exact-distance shapes clear on the first push, so their results do not depend on the later ones.
+    int tries = 0;
+    for (int into = entered(v, depth); into >= 0; into = entered(v, depth), ++tries) {
       ++count[1];
+      if (tries == 8) {
+        v = (-kick / (m * dt)) * f;
+        break;
+      }
+      v = v + (std::ldexp(-depth, tries) / dt * (1 + 1e-9) + 1e-12) * geometry_.normal(r, into);
     }
     const Vec3 dv = v - v0;
     p.vx[i] = v.x;
@@ -296,6 +304,12 @@ std::array<std::uint64_t, 2> Walls::totals(const Comm& comm) const {
   std::uint64_t c[2] = {penetrations_total_, pushes_};
   comm.sum(std::span<std::uint64_t>(c, 2));
   return {c[0], c[1]};
+}
+
+std::uint64_t Walls::last_changes(const Comm& comm) const {
+  std::uint64_t c = counted_[0] + counted_[1];
+  comm.sum(std::span<std::uint64_t>(&c, 1));
+  return c;
 }
 
 void Walls::sample_drag(StepContext& ctx) {

@@ -83,6 +83,8 @@ class Walls {
   std::array<std::uint64_t, 2> take_counts(const Comm& comm);
   // Penetrations and pushes since the start of this run, summed over ranks (collective).
   std::array<std::uint64_t, 2> totals(const Comm& comm) const;
+  // Reflections and pushes of the last reflect_velocities() call, summed over ranks (collective).
+  std::uint64_t last_changes(const Comm& comm) const;
   // Block-averaged drag per body (the same on every rank).
   std::vector<DragResult> drag() const;
   // Writes drag_summary.csv (root) and returns summary lines.
