@@ -22,9 +22,10 @@ mean fluid velocity every walls.drag_every steps after walls.drag_start) and the
 
 Over all runs: K from the slope of q against g (least squares through the origin), the Spielman-Goren
 permeability of fibres perpendicular to the flow at the image's solid fraction phi (fibre radius a):
-1/(4 phi) = 1/2 + (sqrt(K)/a) K1(a/sqrt(K)) / K0(a/sqrt(K)) (the form of seed 004 Eq. 12 for
-perpendicular fibres; scipy.special.k0, k1), the solid fraction phi' and fibre radius a' for which it
-gives the measured K (as seed 004 Table 3 does with phi'), and the Kozeny-Carman form
+1/(4 phi) = 1/2 + (sqrt(K)/a) K1(a/sqrt(K)) / K0(a/sqrt(K)) (Spielman and Goren's original form, with
+the fibre radius; seed 004 prints it as Eq. 12 with the diameter d in place of a, which gives 4 times
+the K and is also reported; scipy.special.k0, k1), the solid fraction phi' and fibre radius a' for
+which it gives the measured K (as seed 004 does with phi' in Figs. 11-12), and the Kozeny-Carman form
 K = eps^3 a^2 / (4 k phi^2) with k = 5.
 
 For context (not from the seeds) it also gives the permeability of a square array of fibres at the same
@@ -258,6 +259,8 @@ def main():
           f"K / d^2 = {K / (2 * radius) ** 2:.5f}")
     if K_sg is not None:
         print(f"Spielman-Goren at phi = {phi:.4f}, a = {radius}: K = {K_sg:.4f}; measured / theory = {K / K_sg:.3f}")
+        print(f"  as printed in seed 004 Eq. 12 (diameter d = {2 * radius:g} in place of a): K = {4 * K_sg:.4f}; "
+              f"measured / that = {K / (4 * K_sg):.3f}")
     print(f"Spielman-Goren gives the measured K at phi' = {phi_prime:.4f} (image {phi:.4f}), i.e. fibre radius "
           f"a' = {radius_prime:.3f} at the same number of fibres (a' - a = {radius_prime - radius:+.3f})")
     print(f"Kozeny-Carman (k = {KOZENY}): K = {K_kc:.4f}; measured / KC = {K / K_kc:.3f}")
@@ -271,7 +274,8 @@ def main():
         "runs": runs, "darcy_slope": slope, "darcy_slope_err": slope_err, "darcy_chi2": chi2,
         "bulk_density": rho_b, "K": K, "K_err_stat": K_err_stat, "K_err_mu": K_err_mu,
         "K_over_d2": K / (2 * radius) ** 2, "K_spielman_goren": K_sg,
-        "ratio_spielman_goren": K / K_sg if K_sg else None, "phi_prime": phi_prime, "radius_prime": radius_prime,
+        "ratio_spielman_goren": K / K_sg if K_sg else None,
+        "K_seed004_eq12_with_diameter": 4 * K_sg if K_sg else None, "phi_prime": phi_prime, "radius_prime": radius_prime,
         "K_square_array": K_square, "ratio_square_array": K / K_square, "K_kozeny_carman": K_kc, "kozeny_constant": KOZENY, "ratio_kozeny_carman": K / K_kc,
         "checks": {"halves_agree": halves, "drag_balances_body_force": balances, "darcy_linear": darcy_ok},
     }

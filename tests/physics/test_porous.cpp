@@ -103,8 +103,9 @@ Flow run_porous(double g, int steps) {
 }
 
 // Spielman-Goren permeability of fibres of radius a perpendicular to the flow at solid fraction phi:
-// 1/(4 phi) = 1/2 + (sqrt(K)/a) K1(a/sqrt(K)) / K0(a/sqrt(K)) (the form of seed 004 Eq. 12), by bisection
-// in x = a / sqrt(K) (the right side falls with x).
+// 1/(4 phi) = 1/2 + (sqrt(K)/a) K1(a/sqrt(K)) / K0(a/sqrt(K)) (Spielman and Goren's form with the fibre
+// radius; seed 004 Eq. 12 prints the diameter in its place), by bisection in x = a / sqrt(K) (the right
+// side falls with x).
 double spielman_goren(double phi, double a) {
   const double lhs = 1 / (4 * phi) - 0.5;
   double lo = 1e-3, hi = 50;
