@@ -85,6 +85,9 @@ assert r.returncode == 0, r.stderr
 for name in ("density", "vx", "vy", "vz", "speed", "temperature"):
     path = os.path.join(out, f"map_{name}.png")
     assert os.path.isfile(path) and is_png(path), path
+r = plot(os.path.join(out, "map.csv"), "--min-density", "2", "--prefix", "masked")
+assert r.returncode == 0, r.stderr
+assert is_png(os.path.join(out, "masked_speed.png"))
 r = plot(os.path.join(out, "profile.csv"), "--out-dir", os.path.join(work, "pics"), "--prefix", "p")
 assert r.returncode == 0, r.stderr
 assert is_png(os.path.join(work, "pics", "p_profile.png"))
