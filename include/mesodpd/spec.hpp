@@ -278,6 +278,9 @@ struct WallsSpec {
   ReflectionKind reflection = ReflectionKind::BounceBack;  // [walls] reflection
   double layer = 0.1;                                      // [walls] layer: reflecting layer thickness
   double depth = 0.0;                                      // [walls] depth: frozen shell kept (0 = largest cutoff)
+  // [walls] equilibrate: steps of the whole box as one periodic fluid (no solids, no body forces) before
+  // the particles inside the solids are frozen (seed 000 Sect. 3.2.2); 0 freezes the initial placement.
+  std::uint64_t equilibrate = 0;
   std::uint64_t drag_start = 0;                            // [walls] drag_start: steps before drag sampling
   std::uint64_t drag_every = 1;                            // [walls] drag_every
   int drag_blocks = 10;                                    // [walls] drag_blocks: blocks for the error bar

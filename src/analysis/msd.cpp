@@ -1,10 +1,10 @@
 // Mean squared displacement from unwrapped positions, and the self-diffusion coefficient from it.
 #include "analysis/msd.hpp"
+#include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <fstream>
 #include <utility>
 #include <limits>
 #include <stdexcept>
@@ -127,13 +127,11 @@ double MeanSquaredDisplacement::diffusion_coefficient() const {
 }
 
 void MeanSquaredDisplacement::write_csv(const std::string& path) const {
-  std::ofstream os(path);
-  if (!os)
-    throw std::runtime_error(fmt::format("MeanSquaredDisplacement: cannot open '{}' for writing", path));
   const auto y = msd();
-  os << "time,msd\n";
-  for (std::size_t k = 0; k < y.size(); ++k) os << fmt::format("{:.10g},{:.10g}\n", lag_time_[k], y[k]);
-  if (!os) throw std::runtime_error(fmt::format("MeanSquaredDisplacement: write to '{}' failed", path));
+  write_file_atomically(path, [&](std::ostream& os) {
+    os << "time,msd\n";
+    for (std::size_t k = 0; k < y.size(); ++k) os << fmt::format("{:.10g},{:.10g}\n", lag_time_[k], y[k]);
+  });
 }
 
 void MeanSquaredDisplacement::save(ByteWriter& w) const {

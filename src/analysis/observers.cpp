@@ -294,15 +294,21 @@ void Observers::observe(const StepContext& ctx) {
     t.time = static_cast<double>(step) * s.dt;
     t.neighbor_builds = ctx.neighbor_builds;
     std::string extra;
-    for (const ThermoColumn& c : opt_.columns) extra += fmt::format(",{:.12g}", c.value(ctx));
+    double column_temperature = 0;
+    for (std::size_t k = 0; k < opt_.columns.size(); ++k) {
+      const double value = opt_.columns[k].value(ctx);
+      if (static_cast<int>(k) == opt_.temperature_column) column_temperature = value;
+      extra += fmt::format(",{:.12g}", value);
+    }
+    const double temperature = opt_.temperature_column >= 0 ? column_temperature : t.temperature_transverse;
     if (comm.root() && files()) {
       thermo_ << thermo_csv_row(t) << extra << '\n';
       thermo_.flush();
     }
     history_.push_back(t);
-    temperature_sum_ += t.temperature_transverse;
+    temperature_sum_ += temperature;
     if (step > late_from_) {
-      late_temperature_sum_ += t.temperature_transverse;
+      late_temperature_sum_ += temperature;
       ++late_samples_;
     }
     pressure_sum_ += t.pressure;
@@ -378,7 +384,11 @@ std::string Observers::finish(const StepContext& ctx) {
   if (thermo_samples_ > 0) {
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
-                           s.poiseuille.enabled ? " (across the flow)" : "", s.kT,
+                           s.poiseuille.enabled ? " (across the flow)"
+                           : opt_.temperature_column >= 0
+                               ? fmt::format(" ({})", opt_.columns[static_cast<std::size_t>(opt_.temperature_column)].name)
+                               : std::string(),
+                           s.kT,
                            pressure_sum_ / static_cast<double>(thermo_samples_), thermo_samples_);
   }
   if (late_samples_ > 0) {

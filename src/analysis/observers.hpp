@@ -70,6 +70,9 @@ struct ObserverSettings {
   // [analysis.stress_profile]: appends the virial terms (conservative pair forces, bonds, angles) of the
   // whole system handed to it (set by the engine).
   std::function<void(const ParticleData&, const Box&, VirialTerms&)> virial_terms;
+  // Index into `columns` of a temperature that the run's mean temperature and its end-of-run warning use
+  // instead of thermo's own (walls: the peculiar temperature, without the flow's kinetic energy); -1: none.
+  int temperature_column = -1;
 };
 
 class Observers final : public Stage {

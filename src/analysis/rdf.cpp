@@ -1,5 +1,6 @@
 // Radial distribution function g(r) of an orthorhombic box (periodic or bounded per axis), and the virial EOS from it.
 #include "analysis/rdf.hpp"
+#include "io/atomic_file.hpp"
 
 #include "physics/dpd_pair.hpp"
 
@@ -7,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <stdexcept>
 
@@ -150,13 +150,12 @@ std::vector<double> RadialDistribution::g() const {
 }
 
 void RadialDistribution::write_csv(const std::string& path) const {
-  std::ofstream os(path);
-  if (!os) throw std::runtime_error(fmt::format("RadialDistribution: cannot open '{}' for writing", path));
   const auto rr = r();
   const auto gg = g();
-  os << "r,g\n";
-  for (std::size_t b = 0; b < bins_; ++b) os << fmt::format("{:.10g},{:.10g}\n", rr[b], gg[b]);
-  if (!os) throw std::runtime_error(fmt::format("RadialDistribution: write to '{}' failed", path));
+  write_file_atomically(path, [&](std::ostream& os) {
+    os << "r,g\n";
+    for (std::size_t b = 0; b < bins_; ++b) os << fmt::format("{:.10g},{:.10g}\n", rr[b], gg[b]);
+  });
 }
 
 double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<double>& g, double dr,

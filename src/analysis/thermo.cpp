@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace mesodpd {
 
 namespace {
@@ -55,6 +57,46 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
   s.momentum = mom;
   s.potential_energy = sums.potential_energy;
   return s;
+}
+
+double peculiar_temperature(const ParticleData& p, const std::vector<double>& mass, const Box& box,
+                            const std::array<int, 3>& bins, const Comm& comm, const std::vector<std::uint8_t>& frozen) {
+  const std::size_t nb = static_cast<std::size_t>(bins[0]) * static_cast<std::size_t>(bins[1]) * static_cast<std::size_t>(bins[2]);
+  // Per bin: mass, momentum (3), twice the kinetic energy; then the particle count.
+  std::vector<Int128> q(5 * nb + 1, 0);
+  const double len[3] = {box.len.x, box.len.y, box.len.z};
+  for (std::size_t i = 0; i < p.n_local; ++i) {
+    if (!frozen.empty() && frozen[static_cast<std::size_t>(p.species[i])]) continue;
+    const double r[3] = {p.x[i], p.y[i], p.z[i]};
+    std::size_t bin = 0;
+    for (int d = 2; d >= 0; --d) {
+      const int n = bins[static_cast<std::size_t>(d)];
+      const int k = std::clamp(static_cast<int>(r[d] / len[d] * n), 0, n - 1);
+      bin = bin * static_cast<std::size_t>(n) + static_cast<std::size_t>(k);
+    }
+    const double m = mass[static_cast<std::size_t>(p.species[i])];
+    const double vx = p.vx[i], vy = p.vy[i], vz = p.vz[i];
+    Int128* b = &q[5 * bin];
+    b[0] += fixed128(m);
+    b[1] += fixed128(m * vx);
+    b[2] += fixed128(m * vy);
+    b[3] += fixed128(m * vz);
+    b[4] += fixed128(m * (vx * vx + vy * vy + vz * vz));
+    ++q[5 * nb];
+  }
+  comm.sum(std::span<Int128>(q));
+  double heat = 0;
+  std::uint64_t occupied = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (q[5 * b] == 0) continue;
+    ++occupied;
+    const double m = unfixed128(q[5 * b]), px = unfixed128(q[5 * b + 1]), py = unfixed128(q[5 * b + 2]),
+                 pz = unfixed128(q[5 * b + 3]);
+    heat += unfixed128(q[5 * b + 4]) - (px * px + py * py + pz * pz) / m;
+  }
+  const double n = static_cast<double>(q[5 * nb]);
+  const double dof = 3.0 * (n - static_cast<double>(occupied));
+  return dof > 0 ? heat / dof : 0.0;
 }
 
 std::string thermo_csv_header() {

@@ -35,6 +35,15 @@ ThermoState compute_thermo(const ParticleData& p, const std::vector<double>& mas
                            const PairSums& sums, int flow_axis = -1, const Comm& comm = Comm::serial(),
                            const std::vector<std::uint8_t>& frozen = {});
 
+// Temperature of the peculiar velocities: each mobile particle's velocity minus the mass-weighted mean
+// velocity of its bin (bins[0] x bins[1] x bins[2] equal bins over the box), so a flow that varies over
+// more than a bin (channel, pillar) does not count as heat; sum over bins of sum m |v - u_bin|^2 divided
+// by 3 (N - occupied bins), the degrees of freedom left once each bin's mean is taken out (exact for
+// thermal velocities). The per-bin sums are 128-bit integers summed over the ranks of `comm`: the same
+// value on every rank whatever the rank count or storage order.
+double peculiar_temperature(const ParticleData& p, const std::vector<double>& mass, const Box& box,
+                            const std::array<int, 3>& bins, const Comm& comm, const std::vector<std::uint8_t>& frozen);
+
 // The header of thermo.csv and one row, at full precision.
 std::string thermo_csv_header();
 std::string thermo_csv_row(const ThermoState& s);

@@ -1,11 +1,11 @@
 // Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
 #include "analysis/velocity_profile.hpp"
+#include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -188,26 +188,22 @@ std::vector<double> PoiseuilleProfile::v_fit() const {
 }
 
 void PoiseuilleProfile::write_csv(const std::string& path) const {
-  std::ofstream os(path);
-  if (!os) throw std::runtime_error(fmt::format("PoiseuilleProfile: cannot open '{}' for writing", path));
   const auto zz = z();
   const auto vm = v_mean();
   const auto ve = v_err();
   const auto vf = v_fit();
-  os << "z,v_mean,v_err,v_fit\n";
-  for (std::size_t b = 0; b < bins_; ++b) {
-    os << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g}\n", zz[b], vm[b], ve[b], vf[b]);
-  }
-  if (!os) throw std::runtime_error(fmt::format("PoiseuilleProfile: write to '{}' failed", path));
+  write_file_atomically(path, [&](std::ostream& os) {
+    os << "z,v_mean,v_err,v_fit\n";
+    for (std::size_t b = 0; b < bins_; ++b) os << fmt::format("{:.10g},{:.10g},{:.10g},{:.10g}\n", zz[b], vm[b], ve[b], vf[b]);
+  });
 }
 
 void write_viscosity_summary_csv(const std::string& path, const ViscosityFit& fit, double eta_kinetic) {
-  std::ofstream os(path);
-  if (!os) throw std::runtime_error(fmt::format("write_viscosity_summary_csv: cannot open '{}'", path));
-  os << "eta,eta_err,v_amplitude,blocks_used,eta_kinetic\n";
-  os << fmt::format("{:.10g},{:.10g},{:.10g},{},{:.10g}\n", fit.eta, fit.eta_err, fit.v_amplitude,
-                    fit.blocks_used, eta_kinetic);
-  if (!os) throw std::runtime_error(fmt::format("write_viscosity_summary_csv: write to '{}' failed", path));
+  write_file_atomically(path, [&](std::ostream& os) {
+    os << "eta,eta_err,v_amplitude,blocks_used,eta_kinetic\n";
+    os << fmt::format("{:.10g},{:.10g},{:.10g},{},{:.10g}\n", fit.eta, fit.eta_err, fit.v_amplitude, fit.blocks_used,
+                      eta_kinetic);
+  });
 }
 
 void PoiseuilleProfile::save(ByteWriter& w) const {

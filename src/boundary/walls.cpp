@@ -11,6 +11,7 @@
 
 #include "core/philox.hpp"
 #include "io/byte_buffer.hpp"
+#include "io/atomic_file.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
@@ -535,8 +536,7 @@ std::string Walls::finish(const Comm& comm, const std::filesystem::path& out_dir
                            r.cd >= 0 ? fmt::format(", C_D = {:.4g} +- {:.2g}", r.cd, r.cd_error) : "");
   if (out_dir.empty()) return summary;
   comm.on_root([&] {
-    std::ofstream f(out_dir / "drag_summary.csv", std::ios::trunc);
-    if (!f) throw ConfigError(fmt::format("{}: cannot open for writing", (out_dir / "drag_summary.csv").string()));
+    write_file_atomically(out_dir / "drag_summary.csv", [&](std::ostream& f) {
     f << "body,fx,fy,fz,fx_err,fy_err,fz_err,fluid_vx,fluid_vy,fluid_vz,samples,drag,drag_err,cd,cd_err,re,"
          "penetrations\n";
     for (const DragResult& r : results)
@@ -545,6 +545,7 @@ std::string Walls::finish(const Comm& comm, const std::filesystem::path& out_dir
                        r.name, r.force[0], r.force[1], r.force[2], r.error[0], r.error[1], r.error[2],
                        r.fluid_velocity[0], r.fluid_velocity[1], r.fluid_velocity[2], r.samples, r.drag, r.drag_error,
                        r.cd, r.cd_error, r.re, pen);
+    });
   });
   return summary;
 }

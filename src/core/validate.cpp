@@ -859,6 +859,11 @@ void validate_walls(SimulationSpec& spec) {
          fmt::format("must exceed walls.layer = {} (the force acts between the reflecting layer and the range)", w.layer));
   if (w.adaptive && spec.solids.empty())
     fail("walls.adaptive", "true", "an adaptive near-wall force needs [[solid]] walls");
+  if (w.equilibrate > 0 && spec.solids.empty())
+    fail("walls.equilibrate", show(static_cast<double>(w.equilibrate)), "equilibration before freezing needs [[solid]] walls");
+  if (w.equilibrate > 0 && !spec.molecules.empty())
+    fail("walls.equilibrate", show(static_cast<double>(w.equilibrate)),
+         "not supported with [[molecule]] (molecules are placed clear of the solids, not cut from a fluid); set it to 0");
   bool any_mobile = false;
   for (std::size_t k = 0; k < spec.species.size(); ++k) {
     const SpeciesSpec& sp = spec.species[k];

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <array>
 #include <limits>
+#include <stdexcept>
 #include <optional>
 #include <vector>
 
@@ -248,7 +249,7 @@ void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, Partic
 }  // namespace
 
 std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep,
-                                 Topology* topology) {
+                                 Topology* topology, const std::vector<double>* placed) {
   if (!spec.data_file.empty()) {
     const bool has_velocities = load_data_file(spec, box, p, topology);
     if (spec.velocities == VelocityInit::File && !has_velocities)
@@ -266,6 +267,8 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
     total += s.count;
     if (s.placement == Placement::Lattice) lattice_total += s.count;
   }
+  if (placed && (placed->size() != 3 * total || !spec.molecules.empty()))
+    throw std::logic_error("make_initial_state: equilibrated positions do not match the species counts");
 
   // Lattice species share one simple-cubic-like grid with at least lattice_total sites, spaced to fill
   // the box; sites are filled in order, species after species.
@@ -318,7 +321,12 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
       for (std::uint64_t c = 0; c < spec.species[s].count; ++c, ++i) {
         const auto id = static_cast<std::uint32_t>(i + 1);  // the draw number
         double x, y, z;
-        if (spec.species[s].placement == Placement::Lattice) {
+        if (placed) {
+          // Equilibrated before freezing: the pre-run's particle i + 1 (it had no solids to cut it).
+          x = (*placed)[3 * i];
+          y = (*placed)[3 * i + 1];
+          z = (*placed)[3 * i + 2];
+        } else if (spec.species[s].placement == Placement::Lattice) {
           const std::uint64_t gx = site % grid[0], gy = (site / grid[0]) % grid[1], gz = site / (grid[0] * grid[1]);
           ++site;
           x = (static_cast<double>(gx) + 0.5) * box.len.x / static_cast<double>(grid[0]);

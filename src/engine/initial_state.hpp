@@ -2,6 +2,7 @@
 // Maxwell-Boltzmann velocities with zero total momentum (seed 000 Sect. 2.6).
 #pragma once
 #include <functional>
+#include <vector>
 
 #include "core/box.hpp"
 #include "core/particle_data.hpp"
@@ -20,12 +21,13 @@ using KeepPredicate = std::function<bool(double x, double y, double z)>;
 // always read whole. With [[solid]] blocks, the generated fluid fills the whole box and the particles
 // inside a solid become that solid's frozen species (body = solid index + 1, velocity = the solid's) if
 // they lie within walls.depth of its surface and are left out otherwise; ids stay consecutive (seed 000
-// Sect. 3.2.2, without the equilibration before freezing). Returns the particle count of the whole
-// system.
+// Sect. 3.2.2). Returns the particle count of the whole system.
 // With `topology`, also returns the bonds and angles (by global id) of the generated molecules or of
 // the data file.
+// With `placed` (x, y, z of every free particle by draw number, 3 values each: the fluid equilibrated
+// before freezing, walls.equilibrate), those positions replace the drawn ones.
 std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep = {},
-                                 Topology* topology = nullptr);
+                                 Topology* topology = nullptr, const std::vector<double>* placed = nullptr);
 
 // The pre-flight check of an initial state, shared by `mesodpd check` and the public API: with
 // init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state

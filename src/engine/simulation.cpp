@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "analysis/observers.hpp"
+#include "analysis/thermo.hpp"
 #include "boundary/external_fields.hpp"
 #include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
@@ -24,6 +25,47 @@
 #include "io/state_checkpoint.hpp"
 
 namespace mesodpd {
+
+namespace {
+
+// walls.equilibrate (seed 000 Sect. 3.2.2: fill the domain at the fluid's density, equilibrate, then
+// freeze the particles inside the solids): the same particles as the run draws, simulated for that many
+// steps as one fluid in a fully periodic box, without solids, regions, body forces or flows, with its
+// own noise (a seed derived from system.seed). Returns x, y, z of every particle in id (= draw) order
+// on every rank; the run then cuts its walls and regions from these positions. A bounded axis is made
+// periodic here: the fluid that meets across it lies inside the walls that close that axis.
+std::vector<double> equilibrated_fill(const SimulationSpec& spec, const Comm& comm) {
+  SimulationSpec pre = spec;
+  pre.solids.clear();
+  pre.walls = WallsSpec{};
+  pre.periodic = {true, true, true};
+  pre.poiseuille.enabled = false;
+  pre.seed = spec.seed ^ 0x9e3779b97f4a7c15ULL;
+  for (SpeciesSpec& s : pre.species) {
+    s.region.reset();
+    s.frozen = false;
+    s.body_force = {0, 0, 0};
+  }
+  Simulation sim(std::move(pre), RunOptions{{}, spec.walls.equilibrate, {}, false, false});
+  while (sim.current_step() < spec.walls.equilibrate) sim.step();
+  const ParticleData all = gather_by_id(sim.particles(), sim.halo().comm(), sim.total_particles());
+  std::vector<double> xyz(3 * sim.total_particles());
+  if (comm.root())
+    for (std::size_t k = 0; k < all.n_local; ++k) {
+      xyz[3 * k] = all.x[k];
+      xyz[3 * k + 1] = all.y[k];
+      xyz[3 * k + 2] = all.z[k];
+    }
+  if (comm.distributed()) {
+    std::vector<std::byte> bytes(xyz.size() * sizeof(double));
+    if (comm.root()) std::memcpy(bytes.data(), xyz.data(), bytes.size());
+    comm.broadcast(bytes);
+    std::memcpy(xyz.data(), bytes.data(), bytes.size());
+  }
+  return xyz;
+}
+
+}  // namespace
 
 Simulation::Simulation(SimulationSpec spec, RunOptions options)
     : spec_(std::move(spec)),
@@ -62,6 +104,9 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                                            {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range,
                                            box_.periodic));
   };
+  std::vector<double> equilibrated;
+  if (!restarted && spec_.walls.equilibrate > 0) equilibrated = equilibrated_fill(spec_, comm);
+  const std::vector<double>* placed = equilibrated.empty() ? nullptr : &equilibrated;
   if (!restarted && spec_.data_file.empty() && comm.distributed()) {
     // A generated system: each rank creates only the particles of its own cells.
     box_.len = {spec_.box[0], spec_.box[1], spec_.box[2]};
@@ -71,7 +116,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     Topology topology;
     n_total_ = make_initial_state(spec_, box_, p_,
                                   [&](double x, double y, double z) { return halo_.owns(x, y, z, global); },
-                                  &topology);
+                                  &topology, placed);
     make_bonded(std::move(topology));
   } else {
     // A checkpoint or data file is read whole on every rank, which then keeps its own particles.
@@ -79,7 +124,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       load_checkpoint(options_.restart);
     } else {
       Topology topology;
-      make_initial_state(spec_, box_, p_, {}, &topology);
+      make_initial_state(spec_, box_, p_, {}, &topology, placed);
       make_bonded(std::move(topology));
     }
     n_total_ = p_.n_local;
@@ -162,6 +207,18 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                                          }});
     observer_settings.columns.push_back(
         {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
+    // Flows between walls stream: the temperature of the velocities relative to the mean velocity of
+    // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too).
+    std::array<int, 3> bins{};
+    for (int d = 0; d < 3; ++d)
+      bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / forces_.max_cutoff()));
+    std::vector<std::uint8_t> frozen;
+    for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
+    observer_settings.temperature_column = static_cast<int>(observer_settings.columns.size());
+    observer_settings.columns.push_back({"temperature_peculiar", [bins, frozen](const StepContext& ctx) {
+                                           return peculiar_temperature(ctx.particles, ctx.species_mass, ctx.box, bins,
+                                                                       ctx.comm, frozen);
+                                         }});
   }
   observers_ = &stages_.add(StagePoint::EndOfStep, std::make_unique<Observers>(spec_, std::move(observer_settings), context()));
   if (!pending_observer_state_.empty()) {

@@ -677,7 +677,7 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
     solid.shape = read_shape(s, base_dir);
     spec.solids.push_back(std::move(solid));
   }
-  const auto w = top.table("walls", {"reflection", "layer", "depth", "drag_start", "drag_every", "drag_blocks",
+  const auto w = top.table("walls", {"reflection", "layer", "depth", "equilibrate", "drag_start", "drag_every", "drag_blocks",
                                      "reference_length", "reference_area", "viscosity", "adaptive", "adaptive_bins",
                                      "adaptive_range", "adaptive_gain", "adaptive_every", "adaptive_stop"});
   if (!w) return;
@@ -689,6 +689,7 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
                       .value_or(ReflectionKind::BounceBack);
   read_real(*w, "layer", ws.layer);
   read_real(*w, "depth", ws.depth);
+  read_uint(*w, "equilibrate", ws.equilibrate);
   read_uint(*w, "drag_start", ws.drag_start);
   read_uint(*w, "drag_every", ws.drag_every);
   read_int(*w, "drag_blocks", ws.drag_blocks);

@@ -1,7 +1,11 @@
 // The end-of-run temperature warning: its tolerance, its allowance for noise and its advice.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "analysis/observers.hpp"
+#include "analysis/thermo.hpp"
 
 using namespace mesodpd;
 
@@ -35,4 +39,43 @@ TEST(TemperatureWarning, AdviceFitsTheIntegrator) {
   const auto euler = temperature_warning(1.2, spec, 3e5, 100);
   ASSERT_TRUE(euler);
   EXPECT_NE(euler->find("groot-warren"), std::string::npos) << *euler;
+}
+
+// Runs with walls judge their temperature by peculiar_temperature: a strong flow (u_x = 2 sin(2 pi z /
+// Lz), mean square 2, i.e. +2/3 on the plain temperature) must not count as heat, the thermal part must
+// (kT = 1 within 3%: the flow's variation inside a bin one cutoff wide adds about 2%), frozen particles
+// are left out, and the value does not depend on the storage order.
+TEST(PeculiarTemperature, RemovesAFlowAndKeepsTheHeat) {
+  Box box;
+  box.len = {10.0, 4.0, 10.0};
+  const std::size_t n = 40000;
+  ParticleData p;
+  p.resize(n);
+  p.n_local = n;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  double plain = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    p.species[i] = i % 10 == 0 ? 1 : 0;  // every tenth a frozen wall particle with a wild velocity
+    p.x[i] = 10.0 * u01(rng);
+    p.y[i] = 4.0 * u01(rng);
+    p.z[i] = 10.0 * u01(rng);
+    const double flow = 2.0 * std::sin(2.0 * M_PI * p.z[i] / 10.0);
+    p.vx[i] = (p.species[i] ? 50.0 : flow) + gauss(rng);
+    p.vy[i] = gauss(rng);
+    p.vz[i] = gauss(rng);
+    if (!p.species[i]) plain += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  }
+  plain /= 3.0 * 0.9 * static_cast<double>(n);
+  const std::vector<double> mass{1.0, 1.0};
+  const std::vector<std::uint8_t> frozen{0, 1};
+  const double t = peculiar_temperature(p, mass, box, {10, 4, 10}, Comm::serial(), frozen);
+  EXPECT_GT(plain, 1.5);  // the flow in the plain temperature
+  EXPECT_NEAR(t, 1.0, 0.03) << "plain " << plain;
+  // Reversed storage order: the same bits.
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(n - 1 - i);
+  p.permute(order);
+  EXPECT_EQ(peculiar_temperature(p, mass, box, {10, 4, 10}, Comm::serial(), frozen), t);
 }

@@ -412,6 +412,39 @@ count = 2
 )");
   EXPECT_NE(m.find("molecule[0].sequence"), std::string::npos) << m;
   EXPECT_NE(m.find("frozen"), std::string::npos) << m;
+  // Equilibration before freezing with molecules (placed clear of the solids, not cut from a fluid).
+  m = config_error(std::string(kChannel) + R"(
+[[bond_type]]
+name = "spring"
+style = "harmonic"
+k = 4
+[[molecule]]
+name = "chain"
+sequence = "fluid4"
+bond_type = "spring"
+count = 2
+[walls]
+equilibrate = 100
+)");
+  EXPECT_NE(m.find("walls.equilibrate"), std::string::npos) << m;
+  EXPECT_NE(m.find("[[molecule]]"), std::string::npos) << m;
+}
+
+TEST(SolidConfig, EquilibrationWithoutSolidsIsRefused) {
+  const auto m = config_error(R"(
+[system]
+box = [6, 6, 6]
+[[species]]
+name = "fluid"
+density = 3
+[pair]
+a = 25
+gamma = 4.5
+[walls]
+equilibrate = 100
+)");
+  EXPECT_NE(m.find("walls.equilibrate"), std::string::npos) << m;
+  EXPECT_NE(m.find("needs [[solid]] walls"), std::string::npos) << m;
 }
 
 TEST(SolidConfig, BodyForceAlongABoundedAxisWithoutWallsIsRefused) {

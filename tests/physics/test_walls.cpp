@@ -97,6 +97,44 @@ TEST(Walls, FrozenShellIsBuiltFromTheFluidAndNothingDeeper) {
   EXPECT_NEAR(static_cast<double>(frozen) / solid_volume, 3.0, 0.3);
 }
 
+// Frozen particles cut from an equilibrated fluid (walls.equilibrate, seed 000 Sect. 3.2.2) keep its
+// structure: few close pairs, where walls cut from the initial random (ideal-gas) placement have as many
+// as an ideal gas. Counted over frozen-frozen pairs closer than 0.3, minimum image along x and y.
+std::size_t close_frozen_pairs(const ParticleData& p, const Box& box) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    for (std::size_t j = i + 1; j < p.n_local; ++j) {
+      if (p.body[i] == 0 || p.body[j] == 0) continue;
+      double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j];
+      const double dz = p.z[i] - p.z[j];
+      dx -= box.len.x * std::round(dx / box.len.x);
+      dy -= box.len.y * std::round(dy / box.len.y);
+      n += dx * dx + dy * dy + dz * dz < 0.09 ? 1 : 0;
+    }
+  return n;
+}
+
+TEST(Walls, EquilibrationBeforeFreezingGivesTheWallsTheFluidsStructure) {
+  Simulation drawn(spec_of(channel(kPillar)), RunOptions{});
+  Simulation equilibrated(spec_of(channel(kPillar, "equilibrate = 150")), RunOptions{});
+  const ParticleData &a = drawn.particles(), &b = equilibrated.particles();
+  std::size_t frozen_a = 0, frozen_b = 0;
+  for (std::size_t i = 0; i < a.n_local; ++i) frozen_a += a.body[i] != 0 ? 1 : 0;
+  for (std::size_t i = 0; i < b.n_local; ++i) frozen_b += b.body[i] != 0 ? 1 : 0;
+  // Ideal gas: each particle has 3 x 4/3 pi 0.3^3 = 0.34 neighbours closer than 0.3 (fewer at the
+  // plates' outer faces).
+  const double per_particle_a = 2.0 * static_cast<double>(close_frozen_pairs(a, drawn.box())) / static_cast<double>(frozen_a);
+  const double per_particle_b =
+      2.0 * static_cast<double>(close_frozen_pairs(b, equilibrated.box())) / static_cast<double>(frozen_b);
+  EXPECT_GT(per_particle_a, 0.2);
+  EXPECT_LT(per_particle_b, 0.25 * per_particle_a) << "drawn " << per_particle_a << ", equilibrated " << per_particle_b;
+  // The same wall thickness and density, and no fluid inside a solid.
+  EXPECT_NEAR(static_cast<double>(frozen_b) / static_cast<double>(frozen_a), 1.0, 0.1);
+  const Geometry& geo = equilibrated.walls()->geometry();
+  for (std::size_t i = 0; i < b.n_local; ++i)
+    if (b.body[i] == 0) EXPECT_GE(geo.sdf(Vec3{b.x[i], b.y[i], b.z[i]}), 0.0);
+}
+
 TEST(Walls, SpeciesRegionKeepsItsFluidInsideAndTheWholeWall) {
   // examples/wetting: the fluid is kept only inside its region (here a ball in the channel), but the
   // walls are built from the whole box's draws as without a region, so they are the same.
