@@ -3,8 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 namespace mesodpd {
 
 namespace {
@@ -71,7 +69,8 @@ double peculiar_temperature(const ParticleData& p, const std::vector<double>& ma
     std::size_t bin = 0;
     for (int d = 2; d >= 0; --d) {
       const int n = bins[static_cast<std::size_t>(d)];
-      const int k = std::clamp(static_cast<int>(r[d] / len[d] * n), 0, n - 1);
+      const double t = r[d] / len[d] * n;  // compared in double first: NaN or far values stay in range
+      const int k = t >= n ? n - 1 : (t >= 0 ? static_cast<int>(t) : 0);
       bin = bin * static_cast<std::size_t>(n) + static_cast<std::size_t>(k);
     }
     const double m = mass[static_cast<std::size_t>(p.species[i])];

@@ -184,9 +184,10 @@ double Walls::distance_bound(const Vec3& r) const {
   std::size_t k = 0;
   for (int d = 2; d >= 0; --d) {
     const int n = bound_cells_[static_cast<std::size_t>(d)];
-    // Positions are wrapped or inside a bounded box; clamping also keeps a stray NaN harmless.
-    int c = static_cast<int>(q[d] * bound_inverse_width_[static_cast<std::size_t>(d)]);
-    c = c < 0 ? 0 : (c >= n ? n - 1 : c);
+    // Positions are wrapped or inside a bounded box; the comparisons in double also send a stray NaN or
+    // a far-away value to a valid cell before any conversion.
+    const double t = q[d] * bound_inverse_width_[static_cast<std::size_t>(d)];
+    const int c = t >= n ? n - 1 : (t >= 0 ? static_cast<int>(t) : 0);
     k = k * static_cast<std::size_t>(n) + static_cast<std::size_t>(c);
   }
   return bound_[k];

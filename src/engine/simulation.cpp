@@ -208,10 +208,12 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     observer_settings.columns.push_back(
         {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
     // Flows between walls stream: the temperature of the velocities relative to the mean velocity of
-    // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too).
+    // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too). At most
+    // ~65,536 bins (wider bins in large boxes), so that a thermo row's integer sums stay small.
+    const double bin_width = std::max(forces_.max_cutoff(), std::cbrt(box_.volume() / 65536.0));
     std::array<int, 3> bins{};
     for (int d = 0; d < 3; ++d)
-      bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / forces_.max_cutoff()));
+      bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / bin_width));
     std::vector<std::uint8_t> frozen;
     for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
     observer_settings.temperature_column = static_cast<int>(observer_settings.columns.size());
