@@ -587,14 +587,14 @@ std::string Walls::finish(const Comm& comm, const std::filesystem::path& out_dir
   if (out_dir.empty()) return summary;
   comm.on_root([&] {
     write_file_atomically(out_dir / "drag_summary.csv", [&](std::ostream& f) {
-    f << "body,fx,fy,fz,fx_err,fy_err,fz_err,fluid_vx,fluid_vy,fluid_vz,samples,drag,drag_err,cd,cd_err,re,"
-         "penetrations\n";
-    for (const DragResult& r : results)
-      f << fmt::format("{},{:.10g},{:.10g},{:.10g},{:.4g},{:.4g},{:.4g},{:.10g},{:.10g},{:.10g},{},{:.10g},{:.4g},{:.8g},"
-                       "{:.4g},{:.8g},{}\n",
-                       r.name, r.force[0], r.force[1], r.force[2], r.error[0], r.error[1], r.error[2],
-                       r.fluid_velocity[0], r.fluid_velocity[1], r.fluid_velocity[2], r.samples, r.drag, r.drag_error,
-                       r.cd, r.cd_error, r.re, pen);
+      f << "body,fx,fy,fz,fx_err,fy_err,fz_err,fluid_vx,fluid_vy,fluid_vz,samples,drag,drag_err,cd,cd_err,re,"
+           "penetrations\n";
+      for (const DragResult& r : results)
+        f << fmt::format("{},{:.10g},{:.10g},{:.10g},{:.4g},{:.4g},{:.4g},{:.10g},{:.10g},{:.10g},{},{:.10g},{:.4g},{:.8g},"
+                         "{:.4g},{:.8g},{}\n",
+                         r.name, r.force[0], r.force[1], r.force[2], r.error[0], r.error[1], r.error[2],
+                         r.fluid_velocity[0], r.fluid_velocity[1], r.fluid_velocity[2], r.samples, r.drag, r.drag_error,
+                         r.cd, r.cd_error, r.re, pen);
     });
   });
   return summary;

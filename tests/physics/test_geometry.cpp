@@ -335,6 +335,21 @@ std::string config_error(const std::string& text) {
   return error_of([&] { parse_config(text, "walls.toml"); });
 }
 
+// Two chains of harmonic bonds with the given bead sequence, appended to a channel config.
+std::string with_chains(const std::string& sequence) {
+  return std::string(kChannel) + R"(
+[[bond_type]]
+name = "spring"
+style = "harmonic"
+k = 4
+[[molecule]]
+name = "chain"
+sequence = ")" + sequence + R"("
+bond_type = "spring"
+count = 2
+)";
+}
+
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
@@ -399,33 +414,11 @@ radius = 1
 )");
   EXPECT_NE(m.find("system.box[0]"), std::string::npos) << m;
   // Molecule beads of a frozen (wall) species: refused, naming the sequence.
-  m = config_error(std::string(kChannel) + R"(
-[[bond_type]]
-name = "spring"
-style = "harmonic"
-k = 4
-[[molecule]]
-name = "chain"
-sequence = "fluid2wall3"
-bond_type = "spring"
-count = 2
-)");
+  m = config_error(with_chains("fluid2wall3"));
   EXPECT_NE(m.find("molecule[0].sequence"), std::string::npos) << m;
   EXPECT_NE(m.find("frozen"), std::string::npos) << m;
   // Equilibration before freezing with molecules (placed clear of the solids, not cut from a fluid).
-  m = config_error(std::string(kChannel) + R"(
-[[bond_type]]
-name = "spring"
-style = "harmonic"
-k = 4
-[[molecule]]
-name = "chain"
-sequence = "fluid4"
-bond_type = "spring"
-count = 2
-[walls]
-equilibrate = 100
-)");
+  m = config_error(with_chains("fluid4") + "[walls]\nequilibrate = 100\n");
   EXPECT_NE(m.find("walls.equilibrate"), std::string::npos) << m;
   EXPECT_NE(m.find("[[molecule]]"), std::string::npos) << m;
 }
