@@ -239,10 +239,21 @@ struct ForcePass {
       constexpr std::size_t kFields = sizeof(Params) / sizeof(PairReal);
       constexpr std::size_t kChunk = 64;
       alignas(64) PairReal col[kFields][kChunk];
+      std::int32_t which[kChunk];
       for (std::size_t k0 = 0; k0 < m; k0 += kChunk) {
         const std::size_t c = std::min(kChunk, m - k0);
+        bool one = true;
         for (std::size_t k = 0; k < c; ++k) {
-          const auto* src = reinterpret_cast<const unsigned char*>(&params[species[b.i[k0 + k]] * ns + species[b.j[k0 + k]]]);
+          which[k] = species[b.i[k0 + k]] * ns + species[b.j[k0 + k]];
+          one = one && which[k] == which[0];
+        }
+        if (one) {  // a chunk of one species pair (the bulk of a fluid next to a wall): constants again
+          const Params pc = params[which[0]];
+          for (std::size_t k = 0; k < c; ++k) pair(pc, k0 + k);
+          continue;
+        }
+        for (std::size_t k = 0; k < c; ++k) {
+          const auto* src = reinterpret_cast<const unsigned char*>(&params[which[k]]);
           for (std::size_t f = 0; f < kFields; ++f) std::memcpy(&col[f][k], src + f * sizeof(PairReal), sizeof(PairReal));
         }
         for (std::size_t k = 0; k < c; ++k) {
