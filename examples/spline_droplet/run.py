@@ -4,7 +4,8 @@ Figs. 14-19): for each B, run liu.toml with pair.attraction = B, find the drops 
 and report the number of drops, the liquid and gas densities and their ratio, with a snapshot per B.
 
     /usr/bin/python3 examples/spline_droplet/run.py [--mesodpd build/mesodpd] [--out out/spline_droplet]
-                     [--steps 20000] [--b 0 0.9 1.0 1.05 1.1] [--average-from 10000] [--analyse-only]
+                     [--steps 20000] [--b 0 0.9 1.0 1.05 1.1] [--average-from 10000] [--kT 1.0]
+                     [--analyse-only] [--laplace STEPS]
 
 Per frame (dumps every 500 steps): liquid-like particles have at least 15 others within r < 1 (local
 density > 3.6; the uniform start has 1.5); a drop is a connected set (link 1.0) of at least 30 of them.
@@ -159,6 +160,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "spline_droplet"))
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--dt", type=float, default=None, help="integrator.dt (liu.toml: 0.01)")
+    ap.add_argument("--kT", type=float, default=None, help="system.kT (liu.toml: 1.0)")
     ap.add_argument("--b", type=float, nargs="+", default=[0.0, 0.9, 1.0, 1.05, 1.1])
     ap.add_argument("--average-from", type=int, default=10000, help="first step of the averages")
     ap.add_argument("--shell", type=float, default=2.0, help="gas: farther than this from every drop particle")
@@ -184,6 +186,8 @@ def main():
         text = re.sub(r"(?m)^every = 2000", "every = 500", text)
         if args.dt:
             text = re.sub(r"(?m)^dt = .*", f"dt = {args.dt}", text)
+        if args.kT:
+            text = re.sub(r"(?m)^kT = .*", f"kT = {args.kT}", text)
         cfg = os.path.join(args.out, name + ".toml")
         if not args.analyse_only:
             with open(cfg, "w") as f:

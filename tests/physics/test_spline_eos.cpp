@@ -57,8 +57,9 @@ Pressure spline_pressure(double rho, double attraction, double kT, std::uint64_t
 
 TEST(SplineEos, PressureFallsWithDensityOnlyWithTheAttraction) {
   // Measured here: P(1) = -0.05 +- 0.03 and P(4) = -1.23 +- 0.07 with the attraction (the 10^3 boxes of
-  // docs/validation.md: -0.009 and -1.01); for B = 0, 1.08 and 31.6. Each assert demands 3 combined errors, so it fails
-  // only if the attraction stops making a loop (or, for B = 0, if the repulsion stops raising P).
+  // docs/validation.md: -0.009 and -1.22); for B = 0, 1.08 and 31.6. Each assert demands 3 combined
+  // errors, so it fails only if the attraction stops making a loop (or, for B = 0, if the repulsion stops
+  // raising P).
   const Pressure low = spline_pressure(1.0, 0.95, 0.54, 41), high = spline_pressure(4.0, 0.95, 0.54, 42);
   const Pressure low0 = spline_pressure(1.0, 0.0, 0.54, 43), high0 = spline_pressure(4.0, 0.0, 0.54, 44);
   std::printf("kT = 0.54, B = 0.95: P(1) = %.4f +- %.4f (T %.4f), P(4) = %.4f +- %.4f (T %.4f)\n", low.mean, low.err,
