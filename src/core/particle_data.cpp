@@ -29,7 +29,10 @@ void ParticleData::permute(const std::vector<std::uint32_t>& order, std::size_t 
   });
   n_local = order.size();
   n_ghost = 0;
+  last_order_.assign(order.begin(), order.end());
+  permuted_from_ = generation_;
   generation_ = next_generation();
+  permuted_to_ = generation_;
 }
 
 }  // namespace mesodpd

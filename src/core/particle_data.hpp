@@ -178,6 +178,12 @@ struct ParticleData {
   // For code that moves particles or changes ids by writing the arrays directly; call it after the
   // writes (migration, ghost construction, reading a file).
   void mark_reordered() { generation_ = next_generation(); }
+  // The order of the last permute() if that is the only change since generation `g` (nothing resized,
+  // reordered or appended after it), else nullptr: storage index k now holds what index order[k] held
+  // at `g`. Lets caches of storage indices follow a sort instead of rebuilding from ids.
+  const std::vector<std::uint32_t>* permutation_since(std::uint64_t g) const {
+    return permuted_from_ == g && permuted_to_ == generation_ ? &last_order_ : nullptr;
+  }
 
  private:
   // Spare buffers that permute() gathers into and swaps with, one per element type, kept so that
@@ -196,6 +202,9 @@ struct ParticleData {
     return ++counter;
   }
   std::uint64_t generation_ = next_generation();
+  // The last permute(): its order and the generations before and after it.
+  std::vector<std::uint32_t> last_order_;
+  std::uint64_t permuted_from_ = 0, permuted_to_ = 0;
 };
 
 // All flags used by a field of the list must be consistent: a checkpointed field is gathered on the

@@ -9,6 +9,7 @@
 #include <limits>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/fixed_point.hpp"
 
@@ -103,14 +104,153 @@ BondedForces::BondedForces(Topology topology, std::vector<BondParams> bond_types
   for (std::size_t k = 0; k < items.size(); ++k) excl_of_[k] = static_cast<std::uint32_t>(pairs[items[k]]);
 }
 
+namespace {
+
+// CSR over n owners: start[i + 1] - start[i] = count(i), and fill(i, first) writes owner i's items from
+// `first` and returns the end. On several threads counting and filling run in parallel; on one thread,
+// when the number of items is known (`total`), a single pass does both. The layout depends on n and the
+// counts alone.
+constexpr std::size_t kUnknown = std::numeric_limits<std::size_t>::max();
+template <class T, class Count, class Fill>
+void build_grouped(std::size_t n, std::vector<std::uint32_t>& start, std::vector<T>& items, const Count& count,
+                   const Fill& fill, std::size_t total = kUnknown) {
+  start.resize(n + 1);
+  start[0] = 0;
+  if (total != kUnknown && omp_get_max_threads() == 1) {
+    items.resize(total);
+    T* out = items.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      start[i] = static_cast<std::uint32_t>(out - items.data());
+      out = fill(i, out);
+    }
+    start[n] = static_cast<std::uint32_t>(out - items.data());
+    if (start[n] != total) throw std::logic_error("BondedForces: the lists lost or gained terms");
+    return;
+  }
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = count(i);
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  items.resize(start[n]);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) fill(i, items.data() + start[i]);
+}
+
+}  // namespace
+
+void BondedForces::lists_from_ids(const ParticleData& p) {
+  ++list_rebuilds_;
+  ids_.refresh(p);
+  const std::size_t n = p.n_local;
+  const std::size_t max_owner = bond_start_.size() - 2;
+  auto range = [&](const std::vector<std::uint32_t>& start, std::size_t i) {
+    const std::uint32_t u = p.id[i];
+    return u > max_owner ? std::pair<std::uint32_t, std::uint32_t>{0, 0}
+                         : std::pair<std::uint32_t, std::uint32_t>{start[u], start[u + 1]};
+  };
+  build_grouped(
+      p.n_local, lb_start_, lbonds_,
+      [&](std::size_t i) {
+        const auto [lo, hi] = range(bond_start_, i);
+        return hi - lo;
+      },
+      [&](std::size_t i, LocalBond* out) {
+        // Owners come in storage order, their ids at random: each lookup is a chain of dependent cache
+        // misses (the owner's range, its first bond, the partner's id-map entry), so each link is
+        // prefetched a few owners ahead, the next once the previous has arrived. Hints only.
+        if (i + 16 < n && p.id[i + 16] <= max_owner) __builtin_prefetch(bond_start_.data() + p.id[i + 16]);
+        if (i + 8 < n && p.id[i + 8] <= max_owner) __builtin_prefetch(owned_bonds_.data() + bond_start_[p.id[i + 8]]);
+        if (i + 4 < n && p.id[i + 4] <= max_owner) {
+          const std::uint32_t v = p.id[i + 4];
+          if (bond_start_[v] < bond_start_[v + 1]) ids_.prefetch(owned_bonds_[bond_start_[v]].partner);
+        }
+        const auto [lo, hi] = range(bond_start_, i);
+        for (std::uint32_t k = lo; k < hi; ++k) {
+          const OwnedBond& b = owned_bonds_[k];
+          *out++ = {ids_.find(b.partner), static_cast<std::uint32_t>(b.type) << 1 | static_cast<std::uint32_t>(b.owner_first)};
+        }
+        return out;
+      });
+  if (owned_angles_.empty()) {
+    la_start_.assign(p.n_local + 1, 0);
+    return;
+  }
+  build_grouped(
+      p.n_local, la_start_, langles_,
+      [&](std::size_t i) {
+        const auto [lo, hi] = range(angle_start_, i);
+        return hi - lo;
+      },
+      [&](std::size_t i, LocalAngle* out) {
+        const auto [lo, hi] = range(angle_start_, i);
+        for (std::uint32_t k = lo; k < hi; ++k) {
+          const OwnedAngle& t = owned_angles_[k];
+          *out++ = {ids_.find(t.a), ids_.find(t.c), t.index, t.type};
+        }
+        return out;
+      });
+}
+
+void BondedForces::lists_through(const std::vector<std::uint32_t>& order) {
+  const std::size_t n = order.size();
+  new_of_old_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < n; ++k) new_of_old_[order[k]] = static_cast<std::uint32_t>(k);
+  auto moved = [&](std::uint32_t j) { return j == IdMap::kNotHere ? j : new_of_old_[j]; };
+  build_grouped(
+      n, spare_start_, spare_bonds_, [&](std::size_t k) { return lb_start_[order[k] + 1] - lb_start_[order[k]]; },
+      [&](std::size_t k, LocalBond* out) {
+        for (std::uint32_t e = lb_start_[order[k]]; e < lb_start_[order[k] + 1]; ++e) {
+          LocalBond b = lbonds_[e];
+          b.j = moved(b.j);
+          *out++ = b;
+        }
+        return out;
+      },
+      lbonds_.size());
+  lb_start_.swap(spare_start_);
+  lbonds_.swap(spare_bonds_);
+  if (owned_angles_.empty()) return;  // la_start_: n + 1 zeros already
+  build_grouped(
+      n, spare_start_, spare_angles_, [&](std::size_t k) { return la_start_[order[k] + 1] - la_start_[order[k]]; },
+      [&](std::size_t k, LocalAngle* out) {
+        for (std::uint32_t e = la_start_[order[k]]; e < la_start_[order[k] + 1]; ++e) {
+          LocalAngle t = langles_[e];
+          t.ja = moved(t.ja);
+          t.jc = moved(t.jc);
+          *out++ = t;
+        }
+        return out;
+      },
+      langles_.size());
+  la_start_.swap(spare_start_);
+  langles_.swap(spare_angles_);
+}
+
+void BondedForces::prepare_lists(const ParticleData& p) {
+  if (list_source_ == &p && list_generation_ == p.generation()) return;
+  const std::vector<std::uint32_t>* order =
+      list_source_ == &p && !list_has_ghosts_ && p.n_ghost == 0 ? p.permutation_since(list_generation_) : nullptr;
+  if (order != nullptr && order->size() + 1 == lb_start_.size() && order->size() + 1 == la_start_.size())
+    lists_through(*order);
+  else
+    lists_from_ids(p);
+  list_source_ = &p;
+  list_generation_ = p.generation();
+  list_has_ghosts_ = p.n_ghost > 0;
+}
+
 std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box, Halo& halo, bool with_sums,
                                                  PairSums& sums, const PairSubtractor& subtract,
                                                  std::vector<double>* fast, bool only_fast) {
   if (topo_.empty()) return std::nullopt;
-  ids_.refresh(p);
+  prepare_lists(p);
   const std::size_t n = p.n_local;
   const std::size_t ntot = p.size();
-  fixed_.assign(3 * ntot, 0);
+  // The integer forces start at zero: the conversion at the end zeroes what it reads (one pass over
+  // the buffer fewer than clearing it here); after an early return it is cleared here.
+  if (!fixed_zero_) std::fill(fixed_.begin(), fixed_.end(), 0);
+  if (fixed_.size() < 3 * ntot) fixed_.resize(3 * ntot, 0);
+  fixed_zero_ = false;
   std::int64_t* f = fixed_.data();
   const double ilx = box.image_len(0), ily = box.image_len(1), ilz = box.image_len(2);
   const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
@@ -135,23 +275,38 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     a[6] += to_fixed(d[0] * F[0] + d[1] * F[1] + d[2] * F[2], kVirialScale);
   };
 
-  // The terms owned by local particle i (global id u).
+  constexpr std::uint32_t kAhead = 8;
+  const bool no_angles = owned_angles_.empty();
+  // The terms owned by local particle i.
   // `a`: the thread's integer sums ([0..5] virial tensor, [6] its trace, [7] energy).
-  auto terms = [&]<bool kAtomic>(std::size_t i, std::uint32_t u, std::int64_t* a, std::uint64_t& problem) {
-    for (std::uint32_t k = bond_start_[u]; k < bond_start_[u + 1]; ++k) {
-      const OwnedBond& b = owned_bonds_[k];
-      const std::uint32_t j = ids_.find(b.partner);
+  auto terms = [&]<bool kAtomic>(std::size_t i, std::int64_t* a, std::uint64_t& problem) {
+    for (std::uint32_t k = lb_start_[i]; k < lb_start_[i + 1]; ++k) {
+      // Partners a sort layer away in storage are often not in cache yet: fetch them a few bonds ahead
+      // (a hint; results do not depend on it).
+      if (k + kAhead < lbonds_.size()) {
+        const std::uint32_t jn = lbonds_[k + kAhead].j;
+        if (jn < ntot) {
+          __builtin_prefetch(p.x.data() + jn);
+          __builtin_prefetch(p.y.data() + jn);
+          __builtin_prefetch(p.z.data() + jn);
+          __builtin_prefetch(f + 3 * static_cast<std::size_t>(jn), 1);
+        }
+      }
+      const LocalBond& b = lbonds_[k];
+      const std::uint32_t j = b.j;
+      auto index = [&] { return owned_bonds_[bond_start_[p.id[i]] + (k - lb_start_[i])].index; };
       if (j == IdMap::kNotHere) {
-        problem = std::min(problem, problem_key(BondProblem::TooLong, b.index));
+        problem = std::min(problem, problem_key(BondProblem::TooLong, index()));
         continue;
       }
       // d = r_a - r_b, the force on a is f_over_r d (the stored order of the bond, whichever atom owns it).
-      const std::size_t ia = b.owner_first ? i : j, ib = b.owner_first ? j : i;
+      const bool owner_first = (b.meta & 1u) != 0;
+      const std::size_t ia = owner_first ? i : j, ib = owner_first ? j : i;
       double d[3];
       const double r2 = displacement(ia, ib, d);
-      const BondForce bf = bond_force(bond_types_[static_cast<std::size_t>(b.type)], std::sqrt(r2));
+      const BondForce bf = bond_force(bond_types_[b.meta >> 1], std::sqrt(r2));
       if (bf.broken) {
-        problem = std::min(problem, problem_key(BondProblem::Broken, b.index));
+        problem = std::min(problem, problem_key(BondProblem::Broken, index()));
         continue;
       }
       const double F[3] = {bf.f_over_r * d[0], bf.f_over_r * d[1], bf.f_over_r * d[2]};
@@ -164,9 +319,10 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
         a[7] += to_fixed(bf.energy, kVirialScale);
       }
     }
-    for (std::uint32_t k = angle_start_[u]; k < angle_start_[u + 1]; ++k) {
-      const OwnedAngle& t = owned_angles_[k];
-      const std::uint32_t ja = ids_.find(t.a), jc = ids_.find(t.c);
+    if (no_angles) return;
+    for (std::uint32_t k = la_start_[i]; k < la_start_[i + 1]; ++k) {
+      const LocalAngle& t = langles_[k];
+      const std::uint32_t ja = t.ja, jc = t.jc;
       if (ja == IdMap::kNotHere || jc == IdMap::kNotHere) {
         problem = std::min(problem, problem_key(BondProblem::AngleTooLong, t.index));
         continue;
@@ -192,41 +348,11 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     }
   };
   // Owners in storage order: their positions and forces are read in order, and bonded partners are
-  // near in space, hence near in the cell-sorted storage. (Visiting owners in id order instead reads the
-  // topology in order but the particle arrays at random; it was slower.)
+  // near in space, hence near in the cell-sorted storage, so the partners' data is mostly in cache.
   const bool atomic = omp_get_max_threads() > 1;
   auto run = [&]<bool kAtomic>() {
 #pragma omp parallel for schedule(static) reduction(+ : acc[:8]) reduction(min : problem)
-    for (std::size_t i = 0; i < n; ++i) {
-      // The loop is bound by cache misses on a chain of dependent loads (the owner's entry in
-      // bond_start_, its first bond, the partner's id-map entry, the partner's position and force), so
-      // each link is prefetched a few owners ahead, the next link once the previous one has arrived.
-      // Hints only: the results do not depend on them.
-      if (i + 24 < n && p.id[i + 24] <= max_owner) __builtin_prefetch(bond_start_.data() + p.id[i + 24]);
-      if (i + 16 < n && p.id[i + 16] <= max_owner) {
-        const std::uint32_t k = bond_start_[p.id[i + 16]];
-        if (k < owned_bonds_.size()) __builtin_prefetch(owned_bonds_.data() + k);
-      }
-      if (i + 8 < n && p.id[i + 8] <= max_owner) {
-        const std::uint32_t v = p.id[i + 8];
-        if (bond_start_[v] < bond_start_[v + 1]) ids_.prefetch(owned_bonds_[bond_start_[v]].partner);
-      }
-      if (i + 4 < n && p.id[i + 4] <= max_owner) {
-        const std::uint32_t v = p.id[i + 4];
-        if (bond_start_[v] < bond_start_[v + 1]) {
-          const std::uint32_t j = ids_.find(owned_bonds_[bond_start_[v]].partner);
-          if (j != IdMap::kNotHere) {
-            __builtin_prefetch(p.x.data() + j);
-            __builtin_prefetch(p.y.data() + j);
-            __builtin_prefetch(p.z.data() + j);
-            __builtin_prefetch(f + 3 * static_cast<std::size_t>(j), 1);
-          }
-        }
-      }
-      const std::uint32_t u = p.id[i];
-      if (u > max_owner) continue;
-      terms.template operator()<kAtomic>(i, u, acc, problem);
-    }
+    for (std::size_t i = 0; i < n; ++i) terms.template operator()<kAtomic>(i, acc, problem);
   };
   if (atomic)
     run.template operator()<true>();
@@ -241,6 +367,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     out.index = problem & ((std::uint64_t{1} << 40) - 1);
     // The length, from whichever rank holds both atoms (others add zero).
     double len = 0;
+    ids_.refresh(p);
     if (out.kind != BondProblem::AngleTooLong) {
       const Bond& b = topo_.bonds[out.index];
       const std::uint32_t ia = ids_.find(b.a), ib = ids_.find(b.b);
@@ -271,6 +398,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   // Excluded pairs: the pair loop's integers for them, subtracted (before ghost forces go home).
   std::int64_t excl_totals[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   if (!excl_of_.empty() && subtract) {
+    ids_.refresh(p);
     excl_pairs_.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t u = p.id[i];
@@ -291,7 +419,10 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     p.fx[i] += static_cast<double>(f[3 * i]) * kForceUnscale;
     p.fy[i] += static_cast<double>(f[3 * i + 1]) * kForceUnscale;
     p.fz[i] += static_cast<double>(f[3 * i + 2]) * kForceUnscale;
+    f[3 * i] = f[3 * i + 1] = f[3 * i + 2] = 0;
   }
+  std::fill(fixed_.begin() + static_cast<std::ptrdiff_t>(3 * n), fixed_.end(), 0);  // the ghosts' entries
+  fixed_zero_ = true;
   if (with_sums) {
     std::int64_t t[9];
     for (int q = 0; q < 8; ++q) t[q] = acc[q] + excl_totals[q];

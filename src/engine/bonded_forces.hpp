@@ -76,8 +76,9 @@ class BondedForces {
   // the bonded virial that compute() adds to the pair sums. For [analysis.stress_profile].
   void virial_terms(const ParticleData& p, const Box& box, VirialTerms& out) const;
 
-  // Storage index of a global id on this rank (after compute or refresh), IdMap::kNotHere if absent.
-  IdMap& id_map() { return ids_; }
+  // How often the storage-index lists were built by looking ids up (the rest followed a sort or were
+  // reused): for tests.
+  std::uint64_t list_rebuilds() const { return list_rebuilds_; }
 
  private:
   Topology topo_;
@@ -101,11 +102,42 @@ class BondedForces {
   std::vector<std::uint32_t> bond_start_, angle_start_;
   std::vector<OwnedBond> owned_bonds_;
   std::vector<OwnedAngle> owned_angles_;
+
+  // The same terms in storage indices, grouped by the local owner i: bonds [lb_start_[i],
+  // lb_start_[i + 1]) of lbonds_, angles likewise. Partners are storage indices (IdMap::kNotHere when
+  // this rank holds no copy). Valid for list_source_ at list_generation_. Rebuilt from ids when the
+  // particles changed otherwise than by a sort (ghosts, migration, resize), followed through the
+  // permutation when a sort alone happened (a single domain sorts every step in cell mode, and the
+  // particles barely move, so that pass is almost sequential where a lookup by id is a random read per
+  // bond), reused as they are when nothing moved in storage (Verlet steps between rebuilds, inner
+  // steps of multiple time stepping).
+  // 8 bytes: the list is rewritten every step in cell mode. The bond's index in the topology, needed
+  // only to report a problem, is that of the entry at the same place in the owner's owned_bonds_ range.
+  struct LocalBond {
+    std::uint32_t j;     // the other atom's storage index
+    std::uint32_t meta;  // type << 1 | owner_first (1 if the owner is the bond's atom a: d = r_a - r_b)
+  };
+  struct LocalAngle {
+    std::uint32_t ja, jc;  // end atoms' storage indices
+    std::uint32_t index;
+    std::int32_t type;
+  };
+  void prepare_lists(const ParticleData& p);
+  void lists_from_ids(const ParticleData& p);
+  void lists_through(const std::vector<std::uint32_t>& order);
+  std::vector<std::uint32_t> lb_start_, la_start_, new_of_old_, spare_start_;
+  std::vector<LocalBond> lbonds_, spare_bonds_;
+  std::vector<LocalAngle> langles_, spare_angles_;
+  const ParticleData* list_source_ = nullptr;
+  std::uint64_t list_generation_ = 0;
+  bool list_has_ghosts_ = false;
+  std::uint64_t list_rebuilds_ = 0;
   // Excluded pairs by their lower id u: partners excl_of_[excl_start_[u] .. excl_start_[u + 1]).
   std::vector<std::uint32_t> excl_start_, excl_of_;
   std::vector<std::uint32_t> excl_pairs_;  // storage index pairs of one evaluation
   IdMap ids_;
-  std::vector<std::int64_t> fixed_;
+  std::vector<std::int64_t> fixed_;  // integer forces, 3 per stored particle
+  bool fixed_zero_ = false;          // every entry of fixed_ is zero
 };
 
 }  // namespace mesodpd

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -271,6 +273,68 @@ TEST(Bonded, NewtonsThirdLawIsExactAndMomentumIsConserved) {
   EXPECT_EQ(f[1], 0.0);
   EXPECT_EQ(f[2], 0.0);
   EXPECT_GT(sums.potential_energy, 0.0);
+}
+
+// The storage-index lists follow a sort through its permutation instead of looking every partner up
+// by id; the forces must be those of a lookup by id, bit for bit, and a change that is not a sort
+// alone must send them back to the ids.
+TEST(Bonded, ListsFollowASortAndGiveTheForcesOfALookupById) {
+  Simulation sim(chains_spec(), RunOptions{});
+  for (int s = 0; s < 10; ++s) sim.step();
+  // A cell-mode run sorts every step: its lists were built from ids once and followed every sort since.
+  EXPECT_EQ(sim.bonded().list_rebuilds(), 1u);
+
+  ParticleData p = sim.particles();
+  auto forces = [](BondedForces& bonded, ParticleData& q, const Box& box, PairSums& sums) {
+    std::fill(q.fx.begin(), q.fx.end(), 0.0);
+    std::fill(q.fy.begin(), q.fy.end(), 0.0);
+    std::fill(q.fz.begin(), q.fz.end(), 0.0);
+    Halo halo;
+    ASSERT_FALSE(bonded.compute(q, box, halo, true, sums).has_value());
+  };
+  auto by_id = [](const ParticleData& q) {
+    std::vector<double> out(3 * (std::size_t{*std::max_element(q.id.begin(), q.id.begin() + static_cast<std::ptrdiff_t>(q.n_local))} + 1));
+    for (std::size_t i = 0; i < q.n_local; ++i) {
+      out.at(3 * q.id[i]) = q.fx[i];
+      out.at(3 * q.id[i] + 1) = q.fy[i];
+      out.at(3 * q.id[i] + 2) = q.fz[i];
+    }
+    return out;
+  };
+  BondedForces followed = sim.bonded();
+  PairSums s0;
+  forces(followed, p, sim.box(), s0);
+  const std::vector<double> before = by_id(p);
+  const std::uint64_t built = followed.list_rebuilds();
+
+  // A random permutation (far from the near-identity of a step's sort), then the same forces.
+  std::vector<std::uint32_t> order(p.n_local);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937(7));
+  p.permute(order);
+  PairSums s1;
+  forces(followed, p, sim.box(), s1);
+  EXPECT_EQ(followed.list_rebuilds(), built);  // followed, not rebuilt
+  EXPECT_EQ(by_id(p), before);
+  EXPECT_EQ(s1.potential_energy, s0.potential_energy);
+  EXPECT_EQ(s1.virial, s0.virial);
+
+  // A fresh object, which looks every partner up by id, gives the same bits in the new order.
+  ParticleData q = p;
+  BondedForces fresh = sim.bonded();
+  PairSums s2;
+  forces(fresh, q, sim.box(), s2);
+  EXPECT_EQ(fresh.list_rebuilds(), sim.bonded().list_rebuilds() + 1);
+  EXPECT_EQ(q.fx, p.fx);
+  EXPECT_EQ(q.fy, p.fy);
+  EXPECT_EQ(q.fz, p.fz);
+
+  // A change after the sort (here a resize to the same size) is not followed: the ids are looked up.
+  p.resize(p.n_local);
+  PairSums s3;
+  forces(followed, p, sim.box(), s3);
+  EXPECT_EQ(followed.list_rebuilds(), built + 1);
+  EXPECT_EQ(by_id(p), before);
 }
 
 std::vector<double> positions_after(const SimulationSpec& spec, int threads, int steps) {

@@ -131,8 +131,11 @@ TEST(Walls, EquilibrationBeforeFreezingGivesTheWallsTheFluidsStructure) {
   // The same wall thickness and density, and no fluid inside a solid.
   EXPECT_NEAR(static_cast<double>(frozen_b) / static_cast<double>(frozen_a), 1.0, 0.1);
   const Geometry& geo = equilibrated.walls()->geometry();
-  for (std::size_t i = 0; i < b.n_local; ++i)
-    if (b.body[i] == 0) EXPECT_GE(geo.sdf(Vec3{b.x[i], b.y[i], b.z[i]}), 0.0);
+  for (std::size_t i = 0; i < b.n_local; ++i) {
+    if (b.body[i] == 0) {
+      EXPECT_GE(geo.sdf(Vec3{b.x[i], b.y[i], b.z[i]}), 0.0);
+    }
+  }
 }
 
 TEST(Walls, SpeciesRegionKeepsItsFluidInsideAndTheWholeWall) {
