@@ -147,12 +147,14 @@ void BondedForces::lists_from_ids(const ParticleData& p) {
     return u > max_owner ? std::pair<std::uint32_t, std::uint32_t>{0, 0}
                          : std::pair<std::uint32_t, std::uint32_t>{start[u], start[u + 1]};
   };
+  auto count_in = [&](const std::vector<std::uint32_t>& start) {
+    return [&](std::size_t i) {
+      const auto [lo, hi] = range(start, i);
+      return hi - lo;
+    };
+  };
   build_grouped(
-      p.n_local, lb_start_, lbonds_,
-      [&](std::size_t i) {
-        const auto [lo, hi] = range(bond_start_, i);
-        return hi - lo;
-      },
+      p.n_local, lb_start_, lbonds_, count_in(bond_start_),
       [&](std::size_t i, LocalBond* out) {
         // Owners come in storage order, their ids at random: each lookup is a chain of dependent cache
         // misses (the owner's range, its first bond, the partner's id-map entry), so each link is
@@ -175,11 +177,7 @@ void BondedForces::lists_from_ids(const ParticleData& p) {
     return;
   }
   build_grouped(
-      p.n_local, la_start_, langles_,
-      [&](std::size_t i) {
-        const auto [lo, hi] = range(angle_start_, i);
-        return hi - lo;
-      },
+      p.n_local, la_start_, langles_, count_in(angle_start_),
       [&](std::size_t i, LocalAngle* out) {
         const auto [lo, hi] = range(angle_start_, i);
         for (std::uint32_t k = lo; k < hi; ++k) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -188,58 +189,87 @@ struct ForcePass {
   const double* rho = nullptr;
 
   void evaluate(PairBatch& b, std::size_t m, std::int64_t* local) const {
-    // One species pair: its parameters are loop constants (no per-pair lookup, which would make the
-    // vectorised loop gather them).
-    auto run = [&]<bool kOne>() {
-      const Params p0 = params[0];
-      const Params* tab = params;
-      const std::int32_t* sp = species;
-      for (std::size_t k = 0; k < m; ++k) {
-        const Params& pp = kOne ? p0 : tab[sp[b.i[k]] * ns + sp[b.j[k]]];
-        PairInput<PairReal> in;
-        in.r = b.r[k];
-        if constexpr (kVelocity) in.rv = b.rv[k];
-        if constexpr (kNoise) in.xi = b.xi[k];
-        in.inv_sqrt_dt = inv_sqrt_dt;
-        if constexpr (Law::kDensity) {
-          in.rho_i = static_cast<PairReal>(rho[b.i[k]]);
-          in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
-        }
-        const PairForceT<PairReal> f = eval(pp, in);
-        const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
-        const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
-        if constexpr (!kSums) {
-          // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
-          // lacks and which would keep the compiler from vectorising the law.
-          b.fx[k] = fx;
-          b.fy[k] = fy;
-          b.fz[k] = fz;
-        } else {
-          b.qx[k] = to_fixed(fx, kForceScale);
-          b.qy[k] = to_fixed(fy, kForceScale);
-          b.qz[k] = to_fixed(fz, kForceScale);
-          const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
-          local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
-          local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
-          local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
-          local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
-          local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
-          local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
-          local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
-          local[7] += to_fixed(f.energy, kVirialScale);
-          local[8] += in_range ? 1 : 0;
-        }
+    // Pair k with the parameters pp of its species pair.
+    auto pair = [&](const Params& pp, std::size_t k) {
+      PairInput<PairReal> in;
+      in.r = b.r[k];
+      if constexpr (kVelocity) in.rv = b.rv[k];
+      if constexpr (kNoise) in.xi = b.xi[k];
+      in.inv_sqrt_dt = inv_sqrt_dt;
+      if constexpr (Law::kDensity) {
+        in.rho_i = static_cast<PairReal>(rho[b.i[k]]);
+        in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
       }
+      const PairForceT<PairReal> f = eval(pp, in);
+      const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
+      const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
       if constexpr (!kSums) {
-        to_fixed_array(b.fx, b.qx, m, kForceScale);
-        to_fixed_array(b.fy, b.qy, m, kForceScale);
-        to_fixed_array(b.fz, b.qz, m, kForceScale);
+        // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
+        // lacks and which would keep the compiler from vectorising the law.
+        b.fx[k] = fx;
+        b.fy[k] = fy;
+        b.fz[k] = fz;
+      } else {
+        b.qx[k] = to_fixed(fx, kForceScale);
+        b.qy[k] = to_fixed(fy, kForceScale);
+        b.qz[k] = to_fixed(fz, kForceScale);
+        const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
+        local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
+        local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
+        local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
+        local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
+        local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
+        local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
+        local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
+        local[7] += to_fixed(f.energy, kVirialScale);
+        local[8] += in_range ? 1 : 0;
       }
     };
-    if (ns == 1)
-      run.template operator()<true>();
-    else
-      run.template operator()<false>();
+    if (ns == 1) {
+      // One species pair: its parameters are loop constants.
+      const Params p0 = params[0];
+      for (std::size_t k = 0; k < m; ++k) pair(p0, k);
+    } else {
+      // Several: a lookup per pair inside the law's loop would make the compiler gather every field
+      // or give up vectorising it (a 2-species wall run spent 22% of its time there, scalar). So the
+      // parameters of a chunk of pairs are first copied into columns, which the law's loop then reads
+      // contiguously, as it reads r and the velocities. Same values, same arithmetic, same bits.
+      static_assert(std::is_trivially_copyable_v<Params> && sizeof(Params) % sizeof(PairReal) == 0,
+                    "pair parameters must be a plain set of PairReal fields");
+      constexpr std::size_t kFields = sizeof(Params) / sizeof(PairReal);
+      constexpr std::size_t kChunk = 64;
+      alignas(64) PairReal col[kFields][kChunk];
+      std::int32_t which[kChunk];
+      for (std::size_t k0 = 0; k0 < m; k0 += kChunk) {
+        const std::size_t c = std::min(kChunk, m - k0);
+        bool one = true;
+        for (std::size_t k = 0; k < c; ++k) {
+          which[k] = species[b.i[k0 + k]] * ns + species[b.j[k0 + k]];
+          one = one && which[k] == which[0];
+        }
+        if (one) {  // a chunk of one species pair (the bulk of a fluid next to a wall): constants again
+          const Params pc = params[which[0]];
+          for (std::size_t k = 0; k < c; ++k) pair(pc, k0 + k);
+          continue;
+        }
+        for (std::size_t k = 0; k < c; ++k) {
+          const auto* src = reinterpret_cast<const unsigned char*>(&params[which[k]]);
+          for (std::size_t f = 0; f < kFields; ++f) std::memcpy(&col[f][k], src + f * sizeof(PairReal), sizeof(PairReal));
+        }
+        for (std::size_t k = 0; k < c; ++k) {
+          PairReal v[kFields];
+          for (std::size_t f = 0; f < kFields; ++f) v[f] = col[f][k];
+          Params pp;
+          std::memcpy(&pp, v, sizeof(Params));
+          pair(pp, k0 + k);
+        }
+      }
+    }
+    if constexpr (!kSums) {
+      to_fixed_array(b.fx, b.qx, m, kForceScale);
+      to_fixed_array(b.fy, b.qy, m, kForceScale);
+      to_fixed_array(b.fz, b.qz, m, kForceScale);
+    }
   }
 };
 

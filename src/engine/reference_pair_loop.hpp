@@ -1,6 +1,8 @@
 // The serial reference backend: every pair of local particles by brute force (minimum image, O(N^2)),
 // evaluated with the same force-law functors and density kernels as the fast loop, in double precision.
 // Plain and readable on purpose: it is the oracle the fast pair loop is tested against (DESIGN.md).
+// The functions that analyses call during a run (local virials, virial terms, densities) find the
+// same pairs through cells instead, in the same order, so they cost O(N) and give the same bits.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -14,6 +16,12 @@
 #include "engine/force_compute.hpp"
 
 namespace mesodpd {
+
+// Calls visit(i, j, dx, dy, dz, r) for every pair i < j of local particles closer than `cutoff` (minimum
+// image on periodic axes), i ascending, then j ascending, with d = r_i - r_j: by trying every pair, or
+// with `binned` through cells (the same sequence, O(N)). For tests of the two.
+void reference_pairs(const ParticleData& p, const Box& box, double cutoff, bool binned,
+                     const std::function<void(std::size_t, std::size_t, double, double, double, double)>& visit);
 
 // Pair forces on the local particles of `p` (a single domain, no ghosts) at step `step`: writes f[i]
 // and the pair sums. Sums are accumulated per pair in the engine's fixed point, so in the double build

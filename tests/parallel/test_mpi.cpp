@@ -199,10 +199,12 @@ std::string bonds_config(const std::string& extra) {
          "count = 20\nbond_length = 0.6\n\n"
          "[bonds]\nreach = 2.0\n\n[integrator]\ndt = 0.02\n\n[run]\nsteps = 120\n\n"
          "[output]\nthermo_every = 20\nprogress = false\n\n"
-         "[output.dump]\nevery = 40\nfields = [\"id\", \"mol\", \"position\", \"velocity\", \"image\"]\n\n" +
+         "[output.dump]\nevery = 40\nfields = [\"id\", \"mol\", \"position\", \"velocity\", \"image\"]\n\n"
+         "[analysis.stress_profile]\naxis = \"z\"\nbins = 9\nstart = 20\nevery = 20\nblocks = 2\n\n" +
          extra;
 }
 
+// (The stress profile, gathered on the root, is compared too: its files are the same bytes.)
 TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
   const fs::path dir = fresh_dir();
   write(dir / "r1.toml", bonds_config(""));
@@ -215,7 +217,8 @@ TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
   }
   const Result hybrid = mpirun(dir, 2, "run r2.toml --out hybrid", 2);
   ASSERT_EQ(hybrid.code, 0) << hybrid.out << hybrid.err;
-  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj"}) {
+  ASSERT_NE(read_all(dir / "r1" / "stress_profile.json").find("tension"), std::string::npos);
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "stress_profile.csv", "stress_profile.json"}) {
     for (const char* other : {"r2", "r4", "hybrid"})
       EXPECT_EQ(read_all(dir / other / file), read_all(dir / "r1" / file)) << file << " differs in " << other;
   }
@@ -262,6 +265,7 @@ TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
   const Result rs = mpirun(dir, 4, "run r4.toml --out a --restart a60.mdpd");
   ASSERT_EQ(rs.code, 0) << rs.out << rs.err;
   EXPECT_EQ(read_all(dir / "a" / "checkpoint.mdpd"), read_all(dir / "r1" / "checkpoint.mdpd"));
+  EXPECT_EQ(read_all(dir / "a" / "stress_profile.json"), read_all(dir / "r1" / "stress_profile.json"));
   // Momentum stays zero to round-off with bonds under decomposition.
   for (const auto& row : thermo_rows(dir / "r4" / "thermo.csv"))
     for (int k = 10; k < 13; ++k) EXPECT_LT(std::abs(row[static_cast<std::size_t>(k)]), 1e-9) << "step " << row[0];

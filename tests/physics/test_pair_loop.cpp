@@ -12,6 +12,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/force_compute.hpp"
@@ -241,6 +242,36 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
     }
   }
   EXPECT_GE(compared, 2);
+}
+
+// The analyses' pair loop (cells) must visit exactly the pairs of the brute-force loop, in the same
+// order and with the same displacements, on periodic and bounded boxes, with cells exactly as wide as
+// the cutoff (box lengths that are multiples of it) and with too few cells (the double loop then).
+TEST(PairLoop, BinnedReferencePairsAreTheBruteForcePairs) {
+  struct Case {
+    Box box;
+    double cutoff;
+  };
+  std::vector<Case> cases;
+  Case periodic{Box{{9.0, 7.0, 6.0}, {true, true, true}}, 1.0};
+  Case bounded{Box{{8.0, 6.5, 7.0}, {true, false, true}}, 1.2};
+  Case thin{Box{{6.0, 2.5, 6.0}, {true, true, true}}, 1.0};  // two cells along y: brute force
+  for (const Case& c : {periodic, bounded, thin}) {
+    ParticleData p = test::random_particles(c.box, 900, 17, 2, 7, 5);
+    // Particles on cell faces and on the box faces, where rounding decides the cell.
+    for (std::size_t k = 0; k < 60; ++k) {
+      p.x[k] = c.cutoff * static_cast<double>(k % 6);
+      p.y[k] = k % 2 == 0 ? 0.0 : std::nextafter(c.box.len.y, 0.0);
+    }
+    using Visit = std::tuple<std::size_t, std::size_t, double, double, double, double>;
+    std::vector<Visit> brute, binned;
+    reference_pairs(p, c.box, c.cutoff, false,
+                    [&](std::size_t i, std::size_t j, double dx, double dy, double dz, double r) { brute.emplace_back(i, j, dx, dy, dz, r); });
+    reference_pairs(p, c.box, c.cutoff, true,
+                    [&](std::size_t i, std::size_t j, double dx, double dy, double dz, double r) { binned.emplace_back(i, j, dx, dy, dz, r); });
+    EXPECT_GT(brute.size(), 1000u);
+    EXPECT_EQ(binned, brute);
+  }
 }
 
 TEST(PairLoop, DensityPassEqualsBruteForceSum) {
