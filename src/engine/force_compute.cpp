@@ -165,6 +165,53 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
 #define MESODPD_VECTOR_NOISE 0
 #endif
 
+// Calls pair(pp, k) for the batch entries k in [0, m) in order, pp the parameters of pair k's species
+// pair (params: ns x ns table). With one species pair they are loop constants and the caller's loop
+// vectorises. With several, a lookup per pair inside that loop would make the compiler gather every
+// field or give up vectorising it (a 2-species wall run spent 21% of its time there, scalar); so the
+// parameters of a chunk of pairs are first copied into columns, which the loop then reads
+// contiguously, and a chunk whose pairs all share one species pair (the bulk of a fluid beside a wall)
+// runs with constants. Same values, same arithmetic, same bits.
+template <class Params, class Pair>
+inline void for_each_pair_params(const PairBatch& b, std::size_t m, const Params* params, int ns,
+                                 const std::int32_t* species, const Pair& pair) {
+  if (ns == 1) {
+    const Params p0 = params[0];
+    for (std::size_t k = 0; k < m; ++k) pair(p0, k);
+    return;
+  }
+  static_assert(std::is_trivially_copyable_v<Params> && sizeof(Params) % sizeof(PairReal) == 0,
+                "pair parameters must be a plain set of PairReal fields");
+  constexpr std::size_t kFields = sizeof(Params) / sizeof(PairReal);
+  constexpr std::size_t kChunk = 64;
+  alignas(64) PairReal col[kFields][kChunk];
+  std::int32_t which[kChunk];
+  for (std::size_t k0 = 0; k0 < m; k0 += kChunk) {
+    const std::size_t c = std::min(kChunk, m - k0);
+    bool one = true;
+    for (std::size_t k = 0; k < c; ++k) {
+      which[k] = species[b.i[k0 + k]] * ns + species[b.j[k0 + k]];
+      one = one && which[k] == which[0];
+    }
+    if (one) {
+      const Params pc = params[which[0]];
+      for (std::size_t k = 0; k < c; ++k) pair(pc, k0 + k);
+      continue;
+    }
+    for (std::size_t k = 0; k < c; ++k) {
+      const auto* src = reinterpret_cast<const unsigned char*>(&params[which[k]]);
+      for (std::size_t f = 0; f < kFields; ++f) std::memcpy(&col[f][k], src + f * sizeof(PairReal), sizeof(PairReal));
+    }
+    for (std::size_t k = 0; k < c; ++k) {
+      PairReal v[kFields];
+      for (std::size_t f = 0; f < kFields; ++f) v[f] = col[f][k];
+      Params pp;
+      std::memcpy(&pp, v, sizeof(Params));
+      pair(pp, k0 + k);
+    }
+  }
+}
+
 // What one kind of pair computation evaluates, on top of the shared traversal:
 //   kComponents   integers accumulated per particle (3 for a force, 1 for a density)
 //   kSymmetric    the pair adds the same value to i and j (density) instead of opposite ones (force)
@@ -225,46 +272,7 @@ struct ForcePass {
         local[8] += in_range ? 1 : 0;
       }
     };
-    if (ns == 1) {
-      // One species pair: its parameters are loop constants.
-      const Params p0 = params[0];
-      for (std::size_t k = 0; k < m; ++k) pair(p0, k);
-    } else {
-      // Several: a lookup per pair inside the law's loop would make the compiler gather every field
-      // or give up vectorising it (a 2-species wall run spent 22% of its time there, scalar). So the
-      // parameters of a chunk of pairs are first copied into columns, which the law's loop then reads
-      // contiguously, as it reads r and the velocities. Same values, same arithmetic, same bits.
-      static_assert(std::is_trivially_copyable_v<Params> && sizeof(Params) % sizeof(PairReal) == 0,
-                    "pair parameters must be a plain set of PairReal fields");
-      constexpr std::size_t kFields = sizeof(Params) / sizeof(PairReal);
-      constexpr std::size_t kChunk = 64;
-      alignas(64) PairReal col[kFields][kChunk];
-      std::int32_t which[kChunk];
-      for (std::size_t k0 = 0; k0 < m; k0 += kChunk) {
-        const std::size_t c = std::min(kChunk, m - k0);
-        bool one = true;
-        for (std::size_t k = 0; k < c; ++k) {
-          which[k] = species[b.i[k0 + k]] * ns + species[b.j[k0 + k]];
-          one = one && which[k] == which[0];
-        }
-        if (one) {  // a chunk of one species pair (the bulk of a fluid next to a wall): constants again
-          const Params pc = params[which[0]];
-          for (std::size_t k = 0; k < c; ++k) pair(pc, k0 + k);
-          continue;
-        }
-        for (std::size_t k = 0; k < c; ++k) {
-          const auto* src = reinterpret_cast<const unsigned char*>(&params[which[k]]);
-          for (std::size_t f = 0; f < kFields; ++f) std::memcpy(&col[f][k], src + f * sizeof(PairReal), sizeof(PairReal));
-        }
-        for (std::size_t k = 0; k < c; ++k) {
-          PairReal v[kFields];
-          for (std::size_t f = 0; f < kFields; ++f) v[f] = col[f][k];
-          Params pp;
-          std::memcpy(&pp, v, sizeof(Params));
-          pair(pp, k0 + k);
-        }
-      }
-    }
+    for_each_pair_params(b, m, params, ns, species, pair);
     if constexpr (!kSums) {
       to_fixed_array(b.fx, b.qx, m, kForceScale);
       to_fixed_array(b.fy, b.qy, m, kForceScale);
@@ -289,14 +297,8 @@ struct DensityPass {
   const std::int32_t* species = nullptr;
 
   void evaluate(PairBatch& b, std::size_t m, std::int64_t*) const {
-    const Params* tab = params.data();
-    const std::int32_t* sp = species;
-    if (ns == 1) {
-      const Params p0 = params[0];
-      for (std::size_t k = 0; k < m; ++k) b.fx[k] = kernel(p0, b.r[k]);
-    } else {
-      for (std::size_t k = 0; k < m; ++k) b.fx[k] = kernel(tab[sp[b.i[k]] * ns + sp[b.j[k]]], b.r[k]);
-    }
+    for_each_pair_params(b, m, params.data(), ns, species,
+                         [&](const Params& pp, std::size_t k) { b.fx[k] = kernel(pp, b.r[k]); });
     to_fixed_array(b.fx, b.qx, m, kForceScale);
   }
 };
