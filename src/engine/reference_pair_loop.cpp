@@ -38,10 +38,19 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
   for (int d = 0; d < 3; ++d) {
     // Cells a little wider than the cutoff, so that rounding in the cell index can never put two
     // particles closer than the cutoff two cells apart.
-    nc[d] = cutoff > 0 ? static_cast<int>(std::floor(box.length(d) / cutoff * (1.0 - 1e-9))) : 0;
+    const double cells = cutoff > 0 ? std::floor(box.length(d) / cutoff * (1.0 - 1e-9)) : 0.0;
+    nc[d] = static_cast<int>(std::min(cells, 1e6));
     if (nc[d] < 3) return for_each_pair(p, box, cutoff, visit);
-    inv_w[d] = nc[d] / box.length(d);
   }
+  // A few particles in a large box: wider cells, so that the cell arrays stay of the order of the
+  // particle count (wider cells only add candidates).
+  const double limit = 8.0 * static_cast<double>(n) + 4096.0;
+  const double total = static_cast<double>(nc[0]) * nc[1] * nc[2];
+  if (total > limit) {
+    const double f = std::cbrt(total / limit);
+    for (int d = 0; d < 3; ++d) nc[d] = std::max(3, static_cast<int>(nc[d] / f));
+  }
+  for (int d = 0; d < 3; ++d) inv_w[d] = nc[d] / box.length(d);
   auto coord = [&](double v, int d) {  // positions may sit a hair outside a bounded box
     const double t = v * inv_w[d];
     return t >= nc[d] ? nc[d] - 1 : (t >= 0 ? static_cast<int>(t) : 0);
