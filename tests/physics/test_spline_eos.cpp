@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/surface_tension.hpp"
 #include "engine/simulation.hpp"
 #include "io/config.hpp"
 #include "test_support.hpp"
@@ -42,15 +43,8 @@ Pressure spline_pressure(double rho, double attraction, double kT, std::uint64_t
     p.push_back(s.pressure);
     t += s.temperature;
   }
-  const std::size_t blocks = 5, per = p.size() / blocks;
-  std::vector<double> m(blocks, 0.0);
-  for (std::size_t b = 0; b < blocks; ++b) {
-    for (std::size_t i = 0; i < per; ++i) m[b] += p[b * per + i] / static_cast<double>(per);
-  }
-  double mean = 0, var = 0;
-  for (double v : m) mean += v / blocks;
-  for (double v : m) var += (v - mean) * (v - mean) / (blocks - 1);
-  return {mean, std::sqrt(var / blocks), t / static_cast<double>(p.size())};
+  const BlockMean b = block_mean(p, 5);
+  return {b.mean, b.err, t / static_cast<double>(p.size())};
 }
 
 }  // namespace
