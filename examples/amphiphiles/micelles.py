@@ -246,13 +246,24 @@ def compare(dirs, out):
     import matplotlib.pyplot as plt
 
     os.makedirs(out, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, (ax, at) = plt.subplots(1, 2, figsize=(13, 4.5))
     for k, d in enumerate(dirs):
         with open(os.path.join(d, "equilibrium.json")) as f:
             r = json.load(f)
-        s, p, e = (np.array(c, float) for c in zip(*r["distribution"]))
-        ax.errorbar(s + 0.15 * (k - (len(dirs) - 1) / 2), p, yerr=e, fmt="o-", ms=3, capsize=2,
-                    label=f"{os.path.basename(os.path.normpath(d))}: {r['start']}")
+        name = os.path.basename(os.path.normpath(d))
+        labels, p, e = zip(*r["classes"])
+        width = 0.8 / len(dirs)
+        x = np.arange(len(labels)) + width * (k - (len(dirs) - 1) / 2)
+        short = "random start" if r["start"].startswith("random") else "precoarsened start"
+        bars = ax.bar(x, p, width, yerr=e, capsize=2,
+                      label=f"{name}: {short}, steps {r['first_step']}-{r['last_step']}")
+        with open(os.path.join(d, "aggregates_time.csv")) as f:
+            rows = [(int(x["step"]), int(x["largest"]), float(x["free_fraction"])) for x in csv.DictReader(f)]
+        st, big, free = (np.array(c) for c in zip(*rows))
+        colour = bars.patches[0].get_facecolor()
+        at.plot(st - st[0], big, color=colour, lw=0.8, label=f"{name}: largest aggregate")
+        at.plot(st - st[0], 100 * free, color=colour, lw=0.8, ls=":", label=f"{name}: free molecules (%)")
+        at.axvline(r["first_step"] - st[0], color=colour, ls="--", lw=0.6)
         print(f"{d}: free fraction {r['free_fraction'][0]:.4f} +- {r['free_fraction'][1]:.4f}, "
               f"free concentration {r['free_concentration'][0]:.5f} +- {r['free_concentration'][1]:.5f}, "
               f"<N>_n {r['number_average_aggregation'][0]:.2f} +- {r['number_average_aggregation'][1]:.2f}, "
@@ -260,9 +271,13 @@ def compare(dirs, out):
               f"micelles {r['micelles_per_frame'][0]:.2f} +- {r['micelles_per_frame'][1]:.2f}, "
               f"exits {r['exits']}, entries {r['entries']} (steps {r['first_step']}-{r['last_step']})")
         print("  classes: " + ", ".join(f"{c} {v:.3f} +- {e:.3f}" for c, v, e in r["classes"]))
-    ax.set(xlabel="aggregation number s", ylabel="fraction of molecules in aggregates of size s",
-           title="equilibrium aggregate-size distribution (block errors)")
-    ax.legend(fontsize=8)
+    ax.set_xticks(np.arange(len(labels)), labels)
+    ax.set(xlabel="aggregation number s (classes)", ylabel="fraction of molecules in aggregates of size s",
+           title="size distribution over the averaging windows (block errors)")
+    ax.legend(fontsize=7)
+    at.set(xlabel="steps since the run's first frame (dashed: averaging window starts)", ylim=(0, None),
+           title="largest aggregate and free molecules per frame")
+    at.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "compare.png"), dpi=100)
 
