@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """Pressure-density relation of the spline fluid (seed 000 Fig. 13: A = 2.0, r_c1 = 0.8, B = 0.95,
-r_c2 = 1.0; here with the a = 18.75 of liu.toml) at k_BT = 1 and 0.54 in a 10^3 box, from the virial
-pressure of thermo.csv (seed 000 Eq. 24), with a fit of the van der Waals form of Eq. 25,
-p = rho kT / (1 - rho b) - a rho^2.
+r_c2 = 1.0; by default with the a = 18.75 of liu.toml, --a sets the strength a of Eq. 21: the seed does
+not state Fig. 13's a) at k_BT = 1 and 0.54 in a 10^3 box, from the virial pressure of thermo.csv
+(seed 000 Eq. 24), with a fit of the van der Waals form of Eq. 25, p = rho kT / (1 - rho b) - a rho^2
+(this a-bar, b-bar are the fit's, not the pair strength a).
 
-    /usr/bin/python3 examples/spline_droplet/eos.py [--mesodpd build/mesodpd] [--out out/spline_eos]
+    /usr/bin/python3 examples/spline_droplet/eos.py [--mesodpd build/mesodpd] [--out out/spline_eos] [--a 18.75]
                      [--steps 2400] [--gas-steps 20000] [--dt 0.01] [--rho 0.1 0.25 0.5 1 2 3 4 6 8 9 10 11 12]
                      [--kT 1 0.54] [--plot-only]
 
@@ -17,7 +18,8 @@ and vapour (a drop, a slab or a bubble), and its pressure is that finite
 two-phase state's, not a homogeneous fluid's. The fit of Eq. 25 is an unweighted least-squares fit in
 p over the homogeneous boxes, per temperature and jointly over both temperatures with one (a, b) as
 in Fig. 13 (exact: a is linear for a given b, b is scanned on a fine grid below 1 / max rho). Writes
-eos.csv, eos_fit.json and eos.png.
+eos.csv, eos_fit.json (with the pair strength a it was run with) and eos.png; --plot-only takes a
+from --a, or else from an existing eos_fit.json.
 """
 import argparse
 import json
@@ -74,6 +76,7 @@ def run_point(args, template, kT, rho, seed):
     name = f"kT{kT:g}_rho{rho:g}"
     steps = args.gas_steps if rho <= 2 else args.steps
     text = re.sub(r"(?m)^attraction = [0-9.]+", "attraction = 0.95", template)
+    text = re.sub(r"(?m)^a = [0-9.]+", f"a = {args.a!r}", text)
     text = re.sub(r"(?m)^box = .*", f"box = [{BOX}, {BOX}, {BOX}]", text)
     text = re.sub(r"(?m)^kT = .*", f"kT = {kT}", text)
     text = re.sub(r"(?m)^seed = .*", f"seed = {seed}", text)
@@ -114,17 +117,26 @@ def main():
     ap.add_argument("--steps", type=int, default=2400)
     ap.add_argument("--gas-steps", type=int, default=20000, help="steps at rho <= 2 (slow condensation)")
     ap.add_argument("--dt", type=float, default=0.01)
+    ap.add_argument("--a", type=float, default=None,
+                    help="pair strength a of U = a [A W(r, rc1) - B W(r, rc2)] (default: liu.toml's, 18.75)")
     ap.add_argument("--rho", type=float, nargs="+", default=[0.1, 0.25, 0.5, 1, 2, 3, 4, 6, 8, 9, 10, 11, 12])
     ap.add_argument("--kT", type=float, nargs="+", default=[1.0, 0.54])
     ap.add_argument("--plot-only", action="store_true", help="fit and redraw from --out/eos.csv")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     csv = os.path.join(args.out, "eos.csv")
+    with open(os.path.join(HERE, "liu.toml")) as f:
+        template = f.read()
+    if args.a is None and args.plot_only and os.path.exists(os.path.join(args.out, "eos_fit.json")):
+        with open(os.path.join(args.out, "eos_fit.json")) as f:
+            args.a = json.load(f).get("pair_a")
+    if args.a is None:
+        args.a = float(re.search(r"(?m)^a = ([0-9.]+)", template).group(1))
+    if not args.a > 0:
+        raise SystemExit(f"--a must be positive (got {args.a})")
     if args.plot_only:
         rows = [tuple(v) for v in np.loadtxt(csv, delimiter=",", skiprows=1, ndmin=2)]
     else:
-        with open(os.path.join(HERE, "liu.toml")) as f:
-            template = f.read()
         rows = []
         for kT in args.kT:
             for rho in args.rho:
@@ -137,7 +149,7 @@ def main():
                     for r in rows:
                         f.write(",".join(f"{v:.6g}" for v in r) + "\n")
     table = np.array(rows)
-    fits = {}
+    fits = {"pair_a": args.a}
     print(f"\n{'kT':>5} {'rho':>5} {'P':>18} {'T':>7} {'octants':>12} {'var/Poisson':>11} {'state':>12}")
     for r, sep in zip(table, separated(table)):
         print(f"{r[0]:5g} {r[1]:5g} {r[2]:9.3f} +- {r[3]:5.3f} {r[4]:7.4f} {r[5]:5.2f}-{r[6]:5.2f} {r[7]:11.1f} "
@@ -195,7 +207,7 @@ def main():
             ax.set_ylim(-3, 3)
             ax.set_title("zoom on the loop")
         else:
-            ax.set_title("spline fluid a = 18.75, A = 2, rc1 = 0.8, B = 0.95, rc2 = 1", fontsize=9)
+            ax.set_title(f"spline fluid a = {args.a:g}, A = 2, rc1 = 0.8, B = 0.95, rc2 = 1", fontsize=9)
             ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "eos.png"), dpi=90)

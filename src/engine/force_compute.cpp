@@ -804,7 +804,7 @@ void run_pair_job(PairJob& job) {
               ForcePass<Law, decltype(eval), kSums> pass;
               pass.eval = eval;
               pass.params = lt.params_real.data();
-              pass.ns = lt.table.n_species;
+              pass.ns = lt.loop_species;
               pass.inv_sqrt_dt = static_cast<PairReal>(1.0 / std::sqrt(job.dt));
               pass.species = job.p->species.data();
               pass.rho = job.rho;
@@ -827,7 +827,7 @@ void run_pair_job(PairJob& job) {
     DensityPass<decltype(kernel)> pass;
     pass.kernel = kernel;
     pass.params = converted<DensityParamsT<PairReal>>(ds.table);
-    pass.ns = ds.table.n_species;
+    pass.ns = distinct_species(pass.params, ds.table.n_species);
     pass.species = job.p->species.data();
     run_pass(job, pass, ds.table.max_cutoff);
   };

@@ -2,6 +2,7 @@
 // spec. Adding a law: its header in src/physics/, one entry in PairLawTables, one case in
 // make_pair_laws (docs/architecture.md, "Add a pair force law").
 #pragma once
+#include <cstring>
 #include <optional>
 #include <utility>
 #include <variant>
@@ -25,17 +26,31 @@ using PairReal = float;
 using PairReal = double;
 #endif
 
+// The number of species the pair loop has to tell apart in a parameter table: 1 when every species pair
+// has the same parameters (say, frozen wall particles that take the fluid's [pair] values), so that the
+// loop runs with the parameters as constants instead of looking them up pair by pair; otherwise the
+// table's species count. The same values either way, so the same bits.
+template <class Params>
+int distinct_species(const std::vector<Params>& params, int n_species) {
+  for (const auto& q : params)
+    if (std::memcmp(&q, params.data(), sizeof(Params)) != 0) return n_species;
+  return 1;
+}
+
 // One law with its per-species-pair parameters: `table` in double (reference loop, analysis) and
-// `params_real`, the same in the pair arithmetic type, converted once on construction (not per step).
+// `params_real`, the same in the pair arithmetic type, converted once on construction (not per step);
+// `loop_species`: distinct_species of params_real.
 template <class Law>
 struct LawTable {
   using LawType = Law;
   PairTable<typename Law::template Params<double>> table;
   std::vector<typename Law::template Params<PairReal>> params_real;
+  int loop_species = 1;
 
   LawTable() = default;
   explicit LawTable(PairTable<typename Law::template Params<double>> t) : table(std::move(t)) {
     for (const auto& q : table.params) params_real.push_back(q.template as<PairReal>());
+    loop_species = distinct_species(params_real, table.n_species);
   }
 };
 
