@@ -140,6 +140,12 @@ class PillarShape final : public Shape {
   bool hex_;
 };
 
+double largest_lipschitz(const std::vector<std::unique_ptr<Shape>>& parts) {
+  double l = 1.0;
+  for (const auto& s : parts) l = std::max(l, s->lipschitz());
+  return l;
+}
+
 class UnionShape final : public Shape {
  public:
   explicit UnionShape(std::vector<std::unique_ptr<Shape>> parts) : parts_(std::move(parts)) {}
@@ -148,6 +154,7 @@ class UnionShape final : public Shape {
     for (const auto& s : parts_) d = std::min(d, s->sdf(p));
     return d;
   }
+  double lipschitz() const override { return largest_lipschitz(parts_); }
   Vec3 normal(const Vec3& p) const override {
     std::size_t best = 0;
     double d = kInf;
@@ -170,6 +177,7 @@ class DifferenceShape final : public Shape {
     for (std::size_t k = 1; k < parts_.size(); ++k) d = std::max(d, -parts_[k]->sdf(p));
     return d;
   }
+  double lipschitz() const override { return largest_lipschitz(parts_); }
   Vec3 normal(const Vec3& p) const override {
     double d = parts_[0]->sdf(p);
     std::size_t best = 0;
@@ -183,6 +191,10 @@ class DifferenceShape final : public Shape {
 };
 
 }  // namespace
+
+double Geometry::lipschitz() const {
+  return largest_lipschitz(shapes_);
+}
 
 Vec3 Shape::normal(const Vec3& p) const {
   constexpr double h = 1e-5;

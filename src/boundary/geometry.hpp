@@ -22,6 +22,9 @@ class Shape {
   virtual double sdf(const Vec3& p) const = 0;
   // Default: the central-difference gradient of sdf(), normalised.
   virtual Vec3 normal(const Vec3& p) const;
+  // How much sdf() can change per unit length: 1 for exact distances and for the minima and maxima of
+  // such (unions, differences, periodic images, lattices); more for an interpolated image.
+  virtual double lipschitz() const { return 1.0; }
 };
 
 // Builds a shape for a box (its lengths and periodic axes: spheres, cylinders and boxes are taken at
@@ -46,6 +49,8 @@ class Geometry {
   // Outward normal of body k at p.
   Vec3 normal(const Vec3& p, int body) const { return shapes_[static_cast<std::size_t>(body)]->normal(p); }
   const Shape& shape(std::size_t k) const { return *shapes_[k]; }
+  // The largest Shape::lipschitz() of the solids (1 without any).
+  double lipschitz() const;
 
  private:
   std::vector<std::unique_ptr<Shape>> shapes_;

@@ -44,6 +44,8 @@ class ImageShape final : public Shape {
   // Minus the normalised gradient of the smoothed indicator (seed 000 Sect. 3.2.2): the indicator rises
   // into the solid, so this points into the fluid.
   Vec3 normal(const Vec3& p) const override;
+  // Trilinear interpolation of distances at cell centres: up to 1 per unit length along each axis.
+  double lipschitz() const override { return 1.7320508075688772; }
 
  private:
   // Trilinear interpolation of a cell-centred field, periodic along periodic axes, clamped otherwise.

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/philox.hpp"
+#include "neighbor/cell_grid.hpp"
 #include "io/byte_buffer.hpp"
 #include "io/atomic_file.hpp"
 #include "parallel/comm.hpp"
@@ -50,6 +51,7 @@ Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
     half_diagonal += 0.25 * (len[d] / n) * (len[d] / n);
   }
   half_diagonal = std::sqrt(half_diagonal);
+  const double lipschitz = geometry_.lipschitz();
   bound_.resize(static_cast<std::size_t>(bound_cells_[0]) * static_cast<std::size_t>(bound_cells_[1]) *
                 static_cast<std::size_t>(bound_cells_[2]));
 #pragma omp parallel for schedule(static)
@@ -60,7 +62,7 @@ Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
     const Vec3 centre{(static_cast<double>(ix) + 0.5) * len[0] / bound_cells_[0],
                       (static_cast<double>(iy) + 0.5) * len[1] / bound_cells_[1],
                       (static_cast<double>(iz) + 0.5) * len[2] / bound_cells_[2]};
-    const double lower = geometry_.sdf(centre) - std::sqrt(3.0) * half_diagonal;
+    const double lower = geometry_.sdf(centre) - lipschitz * half_diagonal;
     // Rounded towards minus infinity so that the float is still a lower bound.
     float f = static_cast<float>(lower);
     if (static_cast<double>(f) > lower) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
@@ -193,29 +195,103 @@ double Walls::distance_bound(const Vec3& r) const {
   return bound_[k];
 }
 
+const std::vector<float>& Walls::cell_bounds(const StepContext& ctx) {
+  const CellGrid& g = *ctx.cells;
+  const std::array<int, 9> key{g.dims()[0],       g.dims()[1],       g.dims()[2],       g.owned_lo()[0], g.owned_lo()[1],
+                               g.owned_lo()[2],   g.owned_dims()[0], g.owned_dims()[1], g.owned_dims()[2]};
+  if (key == cell_bound_grid_ && ctx.cell_slack == cell_bound_slack_) return cell_bound_;
+  cell_bound_grid_ = key;
+  cell_bound_slack_ = ctx.cell_slack;
+  const double len[3] = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+  const int ox = g.owned_dims()[0], oy = g.owned_dims()[1];
+  double size[3], half_diagonal = 0;
+  for (std::size_t d = 0; d < 3; ++d) {
+    size[d] = len[d] / g.dims()[d];
+    half_diagonal += (0.5 * size[d] + ctx.cell_slack) * (0.5 * size[d] + ctx.cell_slack);
+  }
+  half_diagonal = std::sqrt(half_diagonal);
+  const double lipschitz = geometry_.lipschitz();
+  cell_bound_.resize(g.num_owned_cells());
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < cell_bound_.size(); ++c) {
+    const int l[3] = {static_cast<int>(c) % ox, (static_cast<int>(c) / ox) % oy, static_cast<int>(c) / (ox * oy)};
+    double centre[3];
+    for (std::size_t d = 0; d < 3; ++d) centre[d] = (g.owned_lo()[d] + l[d] + 0.5) * size[d];
+    // As distance_bound(), with a small absolute margin for the rounding of the geometry's own
+    // arithmetic; rounded down to float.
+    const double lower = geometry_.sdf(Vec3{centre[0], centre[1], centre[2]}) - lipschitz * half_diagonal - 1e-9;
+    float f = static_cast<float>(lower);
+    if (static_cast<double>(f) > lower) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    cell_bound_[c] = f;
+  }
+  return cell_bound_;
+}
+
+double Walls::longest_move(const StepContext& ctx, double kick) const {
+  // dt |v| + kick |f| / m bounds every move; the largest speed and acceleration are taken separately
+  // (a simple loop, not one evaluation of the move per particle), frozen species excluded.
+  const ParticleData& p = ctx.particles;
+  const std::size_t n = p.n_local;
+  std::vector<double> inv_mass2(frozen_.size());
+  for (std::size_t s = 0; s < frozen_.size(); ++s)
+    inv_mass2[s] = frozen_[s] ? 0.0 : 1.0 / (ctx.species_mass[s] * ctx.species_mass[s]);
+  const double* w = inv_mass2.data();
+  double v2max = 0, a2max = 0;
+#pragma omp parallel for schedule(static) reduction(max : v2max, a2max)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double mobile = w[p.species[i]] > 0 ? 1.0 : 0.0;
+    const double v2 = mobile * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+    const double a2 = w[p.species[i]] * (p.fx[i] * p.fx[i] + p.fy[i] * p.fy[i] + p.fz[i] * p.fz[i]);
+    // (A NaN compares false and is ignored here; the health check at the end of the step stops the run.)
+    v2max = v2 > v2max ? v2 : v2max;
+    a2max = a2 > a2max ? a2 : a2max;
+  }
+  // Rounding: the bound exceeds any move computed from the same numbers by far more than 1e-12.
+  return (ctx.dt * std::sqrt(v2max) + kick * std::sqrt(a2max)) * (1.0 + 1e-12) + 1e-300;
+}
+
 template <class Far, class Act>
-void Walls::for_near_wall(StepContext& ctx, double below, Far&& far, Act&& act) {
+void Walls::for_near_wall(StepContext& ctx, double below, double skip_at, Far&& far, Act&& act) {
   ParticleData& p = ctx.particles;
   const std::size_t n = p.n_local, nb = geometry_.bodies();
-#pragma omp parallel
+  // Particles are visited by cell where the step says where its cells are, and whole cells whose lower
+  // bound reaches skip_at are left out (particles sorted by cell: each cell is one contiguous range).
+  const bool by_cell = cell_skip_ && ctx.cells != nullptr && skip_at < std::numeric_limits<double>::infinity();
+  const std::vector<float>* bounds = by_cell ? &cell_bounds(ctx) : nullptr;
+  std::uint64_t examined = 0;
+#pragma omp parallel reduction(+ : examined)
   {
     std::vector<std::int64_t> impulse(3 * nb, 0);
     std::array<std::uint64_t, 2> count{0, 0};
-#pragma omp for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
+    auto visit = [&](std::size_t i) {
+      if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) return;
+      ++examined;
       const Vec3 r{p.x[i], p.y[i], p.z[i]};
       const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
-      if (far(i, m, distance_bound(r))) continue;
+      if (far(i, m, distance_bound(r))) return;
       int b = -1;
       const double d = geometry_.sdf(r, b);
-      if (!(d < below)) continue;
+      if (!(d < below)) return;
       // act() returns the velocity change of the particle (zero if none).
       const Vec3 dv = act(i, r, d, b, m, count);
       // The wall takes the momentum the particle gains, with the opposite sign, as a force over dt.
       impulse[3 * static_cast<std::size_t>(b)] -= fixed(m * dv.x / ctx.dt);
       impulse[3 * static_cast<std::size_t>(b) + 1] -= fixed(m * dv.y / ctx.dt);
       impulse[3 * static_cast<std::size_t>(b) + 2] -= fixed(m * dv.z / ctx.dt);
+    };
+    if (by_cell) {
+      const std::uint32_t* start = ctx.cell_start;
+      const float* cb = bounds->data();
+      const std::size_t nc = bounds->size();
+      // Dynamic: the cells near surfaces, which hold the work, may all lie in one thread's share.
+#pragma omp for schedule(dynamic, 64)
+      for (std::size_t c = 0; c < nc; ++c) {
+        if (static_cast<double>(cb[c]) >= skip_at) continue;
+        for (std::size_t i = start[c]; i < start[c + 1]; ++i) visit(i);
+      }
+    } else {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) visit(i);
     }
 #pragma omp critical
     {
@@ -224,6 +300,7 @@ void Walls::for_near_wall(StepContext& ctx, double below, Far&& far, Act&& act) 
       counted_[1] += count[1];
     }
   }
+  examined_ = examined;
 }
 
 void Walls::mirror_positions(StepContext& ctx) {
@@ -233,7 +310,14 @@ void Walls::mirror_positions(StepContext& ctx) {
   counted_ = {0, 0};
   // A particle whose distance bound is not negative is outside every solid.
   auto far = [](std::size_t, double, double bound) { return bound >= 0.0; };
-  for_near_wall(ctx, 0.0, far, [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
+  // Whole cells: every particle was at least its cell's bound from any surface when the last
+  // reflect_velocities() ran and has since moved by at most next_move_ (where that call belongs to the
+  // previous step, nothing was reordered since, and the move was a single position update); the signed
+  // distance changes by at most twice the move (Geometry::lipschitz() times it, as in reflect_velocities).
+  const bool moved_once = next_move_step_ + 1 == ctx.step && next_move_generation_ == p.generation() &&
+                          spec_.bond_subcycles <= 1;
+  const double skip_at = moved_once ? 2.0 * next_move_ : std::numeric_limits<double>::infinity();
+  for_near_wall(ctx, 0.0, skip_at, far, [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
     // Inside the solid: mirror the position through the surface; where the mirror image is still inside
     // (a concave corner, a staircase image surface), step out along the normal.
     ++count[0];
@@ -289,7 +373,11 @@ void Walls::reflect_velocities(StepContext& ctx) {
     const Vec3 s = dt * Vec3{p.vx[i], p.vy[i], p.vz[i]} + (kick / m) * Vec3{p.fx[i], p.fy[i], p.fz[i]};
     return bound >= layer + 2.0 * std::sqrt(dot(s, s));
   };
-  for_near_wall(ctx, std::numeric_limits<double>::infinity(), far,
+  // Whole cells out of reach: every particle of the cell is at least layer + twice the longest move of
+  // any particle from every surface.
+  const double longest = longest_move(ctx, kick);
+  std::vector<double> changed_move(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
+  for_near_wall(ctx, std::numeric_limits<double>::infinity(), layer + 2.0 * longest, far,
                 [&](std::size_t i, Vec3 r, double d, int b, double m, std::array<std::uint64_t, 2>& count) {
     const Vec3 f{p.fx[i], p.fy[i], p.fz[i]};
     const Vec3 v0{p.vx[i], p.vy[i], p.vz[i]};
@@ -338,10 +426,19 @@ void Walls::reflect_velocities(StepContext& ctx) {
     p.vx[i] = v.x;
     p.vy[i] = v.y;
     p.vz[i] = v.z;
+    if (dv.x != 0 || dv.y != 0 || dv.z != 0) {
+      const Vec3 s = move(v);
+      double& c = changed_move[static_cast<std::size_t>(omp_get_thread_num())];
+      c = std::max(c, std::sqrt(dot(s, s)));
+    }
     return dv;
   });
   reflections_ += counted_[0];
   pushes_ += counted_[1];
+  // The next position update moves every particle by at most this (mirror_positions uses it).
+  next_move_ = std::max(longest, *std::max_element(changed_move.begin(), changed_move.end()));
+  next_move_step_ = ctx.step;
+  next_move_generation_ = p.generation();
 }
 
 std::array<std::uint64_t, 2> Walls::take_counts(const Comm& comm) {

@@ -91,6 +91,12 @@ class Walls {
   std::string finish(const Comm& comm, const std::filesystem::path& out_dir) const;
 
   const Geometry& geometry() const { return geometry_; }
+  // Whole cells far from every surface are skipped when the step says where its cells are
+  // (StepContext::cells); off, every particle is looked at (tests compare the two: same bits).
+  void set_cell_skip(bool on) { cell_skip_ = on; }
+  // Mobile particles whose distance bound the last mirror_positions or reflect_velocities looked at
+  // (this rank).
+  std::uint64_t examined() const { return examined_; }
   void set_output(const std::filesystem::path& out_dir, bool restarted, const Comm& comm);
 
  private:
@@ -101,13 +107,19 @@ class Walls {
   Vec3 reflected(const Vec3& u, const Vec3& nrm, double m, std::uint64_t step, std::uint32_t id) const;
   // Calls act(i, r, d, body, mass, counts) for every mobile local particle with signed distance d < below
   // (in parallel), except those that far(i, mass, bound) declares out of reach given a lower bound of
-  // their distance (the far-field grid below); act returns the particle's velocity change, whose momentum
-  // goes to the body.
+  // their distance (the far-field grid below), and except every particle of a cell whose cell_bounds()
+  // entry is at least skip_at (where ctx.cells is set); act returns the particle's velocity change, whose
+  // momentum goes to the body.
   template <class Far, class Act>
-  void for_near_wall(StepContext& ctx, double below, Far&& far, Act&& act);
+  void for_near_wall(StepContext& ctx, double below, double skip_at, Far&& far, Act&& act);
+  // Lower bounds of the signed distance over each owned cell of ctx.cells, widened by ctx.cell_slack
+  // (computed when the grid or the slack changes; a geometry evaluation per cell).
+  const std::vector<float>& cell_bounds(const StepContext& ctx);
+  // The length of the longest next move, dt v + (kick / m) f, of any mobile local particle.
+  double longest_move(const StepContext& ctx, double kick) const;
   // A lower bound of the signed distance at r: the distance at the centre of r's cell of a fixed grid
-  // minus sqrt(3) times the cell's half diagonal (every signed distance here changes by at most sqrt(3)
-  // per unit length: 1 for the exact shapes, at most 1 per axis for the interpolated images). Lets the
+  // minus Geometry::lipschitz() times the cell's half diagonal (the signed distance changes by at most
+  // that per unit length: 1 for the exact shapes, sqrt(3) for the interpolated images). Lets the
   // per-step passes skip the particles far from every surface without evaluating the geometry; the
   // particles that remain see exactly the same computation, so results do not change.
   double distance_bound(const Vec3& r) const;
@@ -117,6 +129,16 @@ class Walls {
   std::array<int, 3> bound_cells_{1, 1, 1};
   std::array<double, 3> bound_inverse_width_{0, 0, 0};
   std::vector<float> bound_;  // distance_bound per grid cell (rounded down to float)
+  // Cell skipping: cell_bounds() and what they were computed for (global dims, owned lo and dims, slack).
+  bool cell_skip_ = true;
+  std::vector<float> cell_bound_;
+  std::array<int, 9> cell_bound_grid_{};
+  double cell_bound_slack_ = -1;
+  // After reflect_velocities: an upper bound of every mobile particle's next move, for the step and
+  // storage generation it belongs to (mirror_positions of the next step skips the cells beyond it).
+  double next_move_ = 0;
+  std::uint64_t next_move_step_ = 0, next_move_generation_ = 0;
+  std::uint64_t examined_ = 0;
   bool half_velocity_;
   std::vector<std::uint8_t> frozen_;  // by species
   double fill_density_ = 0;           // mass density of the fluid the walls were cut from

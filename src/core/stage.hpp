@@ -15,6 +15,7 @@
 
 namespace mesodpd {
 
+class CellGrid;
 class Comm;
 
 // Where in Simulation::step() a stage runs. The step reads:
@@ -38,6 +39,13 @@ struct StepContext {
   std::uint64_t total_particles = 0;       // over all ranks
   std::uint64_t neighbor_builds = 0;       // since step 0, across restarts
   const Topology* topology = nullptr;      // bonds and angles by global id (empty without molecules)
+  // Where the storage is in the cell order of the last neighbour build (else null): the local particles
+  // of owned cell c of `cells` are at [cell_start[c], cell_start[c + 1]), each within cell_slack of its
+  // cell's box as of the last neighbour check (skin/2 with a Verlet list, 0 with cell pairs; particles
+  // have moved once more at AfterFirstHalf). Lets a stage skip whole cells that are far from something.
+  const CellGrid* cells = nullptr;
+  const std::uint32_t* cell_start = nullptr;
+  double cell_slack = 0.0;
 };
 
 // One action at one stage point. Forces stages run at every force evaluation (also when

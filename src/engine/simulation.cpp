@@ -239,6 +239,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
 Simulation::~Simulation() = default;
 
 StepContext Simulation::context() {
+  const bool by_cell = nlist_.cell_order_of(p_);
   return StepContext{.particles = p_,
                      .box = box_,
                      .comm = halo_.comm(),
@@ -248,7 +249,10 @@ StepContext Simulation::context() {
                      .pair_sums = sums_valid_ ? &sums_ : nullptr,
                      .total_particles = n_total_,
                      .neighbor_builds = neighbor_builds(),
-                     .topology = &bonds_.topology()};
+                     .topology = &bonds_.topology(),
+                     .cells = by_cell ? &nlist_.grid() : nullptr,
+                     .cell_start = by_cell ? nlist_.cell_start().data() : nullptr,
+                     .cell_slack = 0.5 * nlist_.settings().skin};
 }
 
 void Simulation::run_stages(StagePoint at) {

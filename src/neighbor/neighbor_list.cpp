@@ -113,6 +113,7 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
   // Ghost cells follow the owned ones in storage and in cell_start_.
   for (std::size_t c = owned; c < nc; ++c) cell_start_[c + 1] = cell_start_[c] + ghost_count[c - owned];
   if (cell_start_[nc] != p.size()) throw std::logic_error("NeighborList::finish: ghost counts do not add up");
+  sorted_generation_ = settings_.sort || decomposed ? p.generation() : 0;
   cells_only_ = settings_.skin <= 0.0 && (settings_.sort || decomposed) && grid_.has_half_stencil();
   if (cells_only_) {
     // The force loop walks cell_start_ over the sorted storage; no list, order or per-particle cell.

@@ -58,6 +58,13 @@ class NeighborList {
   const std::vector<std::uint32_t>& offsets() const { return offsets_; }
   const std::vector<std::uint32_t>& neighbors() const { return neighbors_; }
   std::uint64_t builds() const { return builds_; }
+  // True while the storage of `p` is still in the cell order of the last build (nothing reordered,
+  // resized or appended since; the particles may have moved, by at most skin/2 as of the last
+  // needs_rebuild() check): the local particles of owned cell c are then at
+  // [cell_start()[c], cell_start()[c + 1]).
+  bool cell_order_of(const ParticleData& p) const {
+    return sorted_generation_ != 0 && sorted_generation_ == p.generation();
+  }
   const NeighborSettings& settings() const { return settings_; }
 
  private:
@@ -74,6 +81,7 @@ class NeighborList {
   std::vector<std::uint64_t> thread_block_sums_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
   std::uint64_t builds_ = 0;
+  std::uint64_t sorted_generation_ = 0;  // ParticleData::generation() after the last sorted build
   bool cells_only_ = false;
 };
 
