@@ -199,9 +199,10 @@ const std::vector<float>& Walls::cell_bounds(const StepContext& ctx) {
   const CellGrid& g = *ctx.cells;
   const std::array<int, 9> key{g.dims()[0],       g.dims()[1],       g.dims()[2],       g.owned_lo()[0], g.owned_lo()[1],
                                g.owned_lo()[2],   g.owned_dims()[0], g.owned_dims()[1], g.owned_dims()[2]};
-  if (key == cell_bound_grid_ && ctx.cell_slack == cell_bound_slack_) return cell_bound_;
+  const std::array<double, 4> lengths{ctx.box.len.x, ctx.box.len.y, ctx.box.len.z, ctx.cell_slack};
+  if (key == cell_bound_grid_ && lengths == cell_bound_lengths_) return cell_bound_;
   cell_bound_grid_ = key;
-  cell_bound_slack_ = ctx.cell_slack;
+  cell_bound_lengths_ = lengths;
   const double len[3] = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
   const int ox = g.owned_dims()[0], oy = g.owned_dims()[1];
   double size[3], half_diagonal = 0;

@@ -129,11 +129,12 @@ class Walls {
   std::array<int, 3> bound_cells_{1, 1, 1};
   std::array<double, 3> bound_inverse_width_{0, 0, 0};
   std::vector<float> bound_;  // distance_bound per grid cell (rounded down to float)
-  // Cell skipping: cell_bounds() and what they were computed for (global dims, owned lo and dims, slack).
+  // Cell skipping: cell_bounds() and what they were computed for (global dims, owned lo and dims; the
+  // box lengths and the slack).
   bool cell_skip_ = true;
   std::vector<float> cell_bound_;
   std::array<int, 9> cell_bound_grid_{};
-  double cell_bound_slack_ = -1;
+  std::array<double, 4> cell_bound_lengths_{-1, -1, -1, -1};
   // After reflect_velocities: an upper bound of every mobile particle's next move, for the step and
   // storage generation it belongs to (mirror_positions of the next step skips the cells beyond it).
   double next_move_ = 0;
