@@ -34,11 +34,14 @@ import subprocess
 
 import numpy as np
 
-from micelles import INTERACTIONS  # the same molecules and parameters
+from micelles import interactions  # the same pair, bond and angle parameters
 
+
+# The run's config: CONFIG (shared with bilayer_assembly.py), then PROFILE (the stress profile along z)
+# and, with --dump-every, DUMP.
 CONFIG = """
 [system]
-box = [{lx:.10f}, {lx:.10f}, {lz:.10f}]
+box = [{lx:.10f}, {ly:.10f}, {lz:.10f}]
 kT = 1.0
 seed = {seed}
 
@@ -55,9 +58,9 @@ name = "T"
 lammps_data = "bilayer.data"
 velocities = "maxwell"
 
-""" + INTERACTIONS + """
+{interactions}
 [integrator]
-dt = 0.02
+dt = {dt}
 
 [run]
 steps = {steps}
@@ -65,7 +68,9 @@ steps = {steps}
 [output]
 thermo_every = 50
 progress = false
+"""
 
+PROFILE = """
 [analysis.stress_profile]
 axis = "z"
 bins = {bins}
@@ -74,33 +79,95 @@ every = {every}
 blocks = 10
 """
 
-HEAD, TAIL = 3, 4  # H3 (T4)2
-BEADS = HEAD + 2 * TAIL
+DUMP = """
+[output.dump]
+format = "gsd"
+every = {every}
+fields = ["id", "species", "position", "image", "mol"]
+"""
 
 
-def lipid(x, y, zm, up, bond=0.5):
-    """Beads (species, x, y, z) of one H3(T4)2 lying along z, heads away from the mid-plane zm."""
+class Molecule:
+    """A branched amphiphile as a tree of beads: species[i] and parent[i] (-1 for the first bead; a
+    bead's parent always comes before it). Bonds join every bead to its parent; angles are the triples
+    (grandparent, parent, bead) along each chain from the first bead, kept when their species pattern
+    is in `angle_patterns` (read in either direction; None keeps them all). lane[i] is the bead's
+    sideways offset (in units of 0.25) in the pre-assembled bilayer, where each bead sits at a height
+    given by its distance along the bonds from the first bead."""
+
+    def __init__(self, name, species, parent, lane, angle_patterns=None):
+        self.name, self.species, self.parent, self.lane = name, species, parent, lane
+        self.depth = []
+        for p in parent:
+            self.depth.append(0 if p < 0 else self.depth[p] + 1)
+        local_bonds = [(p, i) for i, p in enumerate(parent) if p >= 0]
+        self.local_angles = []
+        for i, p in enumerate(parent):
+            if p >= 0 and parent[p] >= 0:
+                pattern = species[parent[p]] + species[p] + species[i]
+                if angle_patterns is None or pattern in angle_patterns or pattern[::-1] in angle_patterns:
+                    self.local_angles.append((parent[p], p, i))
+        self.local_bonds = local_bonds
+
+    def __len__(self):
+        return len(self.species)
+
+    def topology(self, first):
+        """Bonds and angles (atom ids) of the molecule whose first bead has id `first`."""
+        return ([(first + a, first + b) for a, b in self.local_bonds],
+                [(first + a, first + b, first + c) for a, b, c in self.local_angles])
+
+
+# H3(T4)2: three heads in a line, two tails of four both bonded to the last head; an angle on every
+# triple along each chain, none between the two tails (T1-H3-T1').
+H3T4_2 = Molecule("H3(T4)2", list("HHH" + "TTTT" + "TTTT"), [-1, 0, 1, 2, 3, 4, 5, 2, 7, 8, 9],
+                  [0, 0, 0, -1, -1, -1, -1, 1, 1, 1, 1])
+# Osprey-DPD examples/dmpci.bilayer: Polymer Lipid " (H H (* (T T T T T T)) H T T T T T T) ": a side
+# branch of six T on the second head, then the third head and six T (Osprey's parser bonds a branch
+# to the bead before it and goes on from that bead); BondPair H T T and T T T only.
+OSPREY_LIPID = Molecule("H(T6)H(T6) (Osprey-DPD dmpci.bilayer)", list("HH" + "T" * 6 + "H" + "T" * 6),
+                        [-1, 0, 1, 2, 3, 4, 5, 6, 1, 8, 9, 10, 11, 12, 13],
+                        [0, 0, -1, -1, -1, -1, -1, -1, 0, 1, 1, 1, 1, 1, 1], angle_patterns={"HTT", "TTT"})
+
+# Parameter sets (README.md, "Parameters"): the molecule, its [pair]/[bond]/[angle] text and dt.
+PARAMETER_SETS = {
+    "A": dict(molecule=H3T4_2, interactions=interactions(), dt=0.02),
+    # Repulsions, bonds and BondPair (angle) constants as read in Osprey-DPD examples/dmpci.bilayer
+    # (repulsions attributed there to Grafmueller et al., Biophys. J. 96, 2658 (2009)); that file runs
+    # at dt = 0.005 then 0.01, here 0.02 as for set A.
+    "osprey": dict(molecule=OSPREY_LIPID, dt=0.02,
+                   interactions=interactions(a_tw=75, a_hw=30, a_hh=30, a_ht=35, a_tt=10, angle_k=15)),
+}
+
+
+def lipid(mol, x, y, zm, up, bond=0.5):
+    """Beads (species, x, y, z) of one molecule standing along z, heads away from the mid-plane zm."""
     s = 1.0 if up else -1.0
-    beads = [("H", x, y, zm + s * (0.25 + (TAIL + HEAD - 1 - k) * bond)) for k in range(HEAD)]
-    for dx in (-0.25, 0.25):
-        beads += [("T", x + dx, y, zm + s * (0.25 + (TAIL - 1 - k) * bond)) for k in range(TAIL)]
-    return beads
+    top = max(mol.depth)
+    return [(sp, x + ln * 0.25, y, zm + s * (0.25 + (top - d) * bond))
+            for sp, ln, d in zip(mol.species, mol.lane, mol.depth)]
 
 
-def topology(first):
-    """Bonds and angles (atom ids) of the molecule whose first bead has id `first`."""
-    h = [first + k for k in range(HEAD)]
-    tails = [[first + HEAD + t * TAIL + k for k in range(TAIL)] for t in range(2)]
-    bonds = [(h[k], h[k + 1]) for k in range(HEAD - 1)]
-    angles = [(h[k], h[k + 1], h[k + 2]) for k in range(HEAD - 2)]
-    for tl in tails:
-        path = h + tl  # from the first head bead along this tail
-        bonds += [(h[-1], tl[0])] + [(tl[k], tl[k + 1]) for k in range(TAIL - 1)]
-        angles += [(path[k], path[k + 1], path[k + 2]) for k in range(HEAD - 2, len(path) - 2)]
-    return bonds, angles
+def write_lammps_data(path, title, box, atoms, bonds, angles):
+    """A LAMMPS data file (atom style molecular, types W = 1, H = 2, T = 3, one bond and one angle
+    type) of atoms (mol, species, x, y, z) in the box (Lx, Ly, Lz) with its corner at the origin."""
+    type_of = {"W": 1, "H": 2, "T": 3}
+    lx, ly, lz = box
+    with open(path, "w") as f:
+        f.write(f"{title}\n\n{len(atoms)} atoms\n3 atom types\n"
+                f"{len(bonds)} bonds\n1 bond types\n{len(angles)} angles\n1 angle types\n\n"
+                f"0 {lx:.10f} xlo xhi\n0 {ly:.10f} ylo yhi\n0 {lz:.10f} zlo zhi\n\nAtoms # molecular\n\n")
+        for k, (mo, sp, x, y, z) in enumerate(atoms):
+            f.write(f"{k + 1} {mo} {type_of[sp]} {x:.8f} {y:.8f} {z:.8f}\n")
+        f.write("\nBonds\n\n")
+        for k, (a, b) in enumerate(bonds):
+            f.write(f"{k + 1} 1 {a} {b}\n")
+        f.write("\nAngles\n\n")
+        for k, (a, b, c) in enumerate(angles):
+            f.write(f"{k + 1} 1 {a} {b} {c}\n")
 
 
-def write_data(path, n_side, area, total, seed):
+def write_data(path, n_side, area, total, seed, mol=H3T4_2):
     """The data file of 2 n_side^2 molecules at area per molecule `area`; returns (Lx, Lz)."""
     m = 2 * n_side * n_side
     lx = math.sqrt(area * m / 2)
@@ -108,18 +175,18 @@ def write_data(path, n_side, area, total, seed):
     zm = lz / 2
     atoms, bonds, angles = [], [], []
     step = lx / n_side
-    mol = 0
+    mo = 0
     for leaflet, shift in ((True, 0.25), (False, 0.75)):
         for i in range(n_side):
             for j in range(n_side):
-                mol += 1
+                mo += 1
                 first = len(atoms) + 1
-                for sp, x, y, z in lipid((i + shift) * step, (j + shift) * step, zm, leaflet):
-                    atoms.append((mol, sp, x % lx, y % lx, z))
-                b, a = topology(first)
+                for sp, x, y, z in lipid(mol, (i + shift) * step, (j + shift) * step, zm, leaflet):
+                    atoms.append((mo, sp, x % lx, y % lx, z))
+                b, a = mol.topology(first)
                 bonds += b
                 angles += a
-    half = HEAD * 0.5 + TAIL * 0.5 + 0.25  # the bilayer's half thickness as placed
+    half = (max(mol.depth) + 1) * 0.5 + 0.25  # the bilayer's half thickness as placed
     water = total - len(atoms)
     rng = np.random.default_rng(seed)
     span = lz - 2 * half
@@ -129,28 +196,19 @@ def write_data(path, n_side, area, total, seed):
         x, y = rng.uniform(0, lx, 2)
         z = (zm + half + rng.uniform(0, span)) % lz
         atoms.append((0, "W", x, y, z))
-    type_of = {"W": 1, "H": 2, "T": 3}
-    with open(path, "w") as f:
-        f.write(f"H3(T4)2 bilayer, area per molecule {area}\n\n{len(atoms)} atoms\n3 atom types\n"
-                f"{len(bonds)} bonds\n1 bond types\n{len(angles)} angles\n1 angle types\n\n"
-                f"0 {lx:.10f} xlo xhi\n0 {lx:.10f} ylo yhi\n0 {lz:.10f} zlo zhi\n\nAtoms # molecular\n\n")
-        for k, (mo, sp, x, y, z) in enumerate(atoms):
-            f.write(f"{k + 1} {mo} {type_of[sp]} {x:.8f} {y:.8f} {z:.8f}\n")
-        f.write("\nBonds\n\n")
-        for k, (a, b) in enumerate(bonds):
-            f.write(f"{k + 1} 1 {a} {b}\n")
-        f.write("\nAngles\n\n")
-        for k, (a, b, c) in enumerate(angles):
-            f.write(f"{k + 1} 1 {a} {b} {c}\n")
+    write_lammps_data(path, f"{mol.name} bilayer, area per molecule {area}", (lx, lx, lz), atoms, bonds, angles)
     return lx, lz
 
 
-def thermo_tension(path, start, lz):
-    """Lz (P_zz - (P_xx + P_yy) / 2) from thermo.csv's full tensor (with the dissipative and random
-    forces) from step `start`, mean and a 10-block error bar."""
+def thermo_tension(path, start, lz, axis="z"):
+    """L_n (P_nn - (P_aa + P_bb) / 2) along the normal `axis` (L_n = lz, its box length) from
+    thermo.csv's full tensor (with the dissipative and random forces) from step `start`, mean and a
+    10-block error bar."""
+    a, b = [c for c in "xyz" if c != axis]
     with open(path) as f:
         rows = [r for r in csv.DictReader(f) if int(r["step"]) >= start]
-    g = np.array([lz * (float(r["pzz"]) - 0.5 * (float(r["pxx"]) + float(r["pyy"]))) for r in rows])
+    g = np.array([lz * (float(r[f"p{axis}{axis}"]) - 0.5 * (float(r[f"p{a}{a}"]) + float(r[f"p{b}{b}"])))
+                  for r in rows])
     nb = 10
     per = len(g) // nb
     blocks = g[len(g) - per * nb:].reshape(nb, per).mean(axis=1)
@@ -170,19 +228,24 @@ def main():
     ap.add_argument("--every", type=int, default=50)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--set", default="A", choices=sorted(PARAMETER_SETS), help="parameter set (README.md)")
+    ap.add_argument("--dump-every", type=int, default=0, help="also write a GSD trajectory (0: none)")
     ap.add_argument("--plot-only", action="store_true", help="collect the existing runs in --out")
     a = ap.parse_args()
+    pset = PARAMETER_SETS[a.set]
     areas = [float(v) for v in a.areas.split(",")]
     os.makedirs(a.out, exist_ok=True)
     rows = []
     for area in areas:
         d = os.path.join(a.out, f"a{area:.3f}")
         os.makedirs(d, exist_ok=True)
-        lx, lz = write_data(os.path.join(d, "bilayer.data"), a.n_side, area, a.total, a.seed)
+        lx, lz = write_data(os.path.join(d, "bilayer.data"), a.n_side, area, a.total, a.seed, pset["molecule"])
         if not a.plot_only:
             with open(os.path.join(d, "config.toml"), "w") as f:
-                f.write(CONFIG.format(lx=lx, lz=lz, seed=a.seed, steps=a.steps, bins=int(round(lz / 0.2)),
-                                      start=a.start, every=a.every))
+                f.write(CONFIG.format(lx=lx, ly=lx, lz=lz, seed=a.seed, steps=a.steps,
+                                      interactions=pset["interactions"], dt=pset["dt"])
+                        + PROFILE.format(bins=int(round(lz / 0.2)), start=a.start, every=a.every)
+                        + (DUMP.format(every=a.dump_every) if a.dump_every else ""))
             subprocess.run([a.mesodpd, "run", os.path.join(d, "config.toml"), "--out", d, "--threads",
                             str(a.threads)], check=True)
         with open(os.path.join(d, "stress_profile.json")) as f:
@@ -239,7 +302,7 @@ def main():
         ax[0].plot(xs, fit[0] * xs + fit[1], "k--", lw=1, label=f"fit: a0 = {fit[2]:.3f} +- {fit[3]:.3f}")
     ax[0].axhline(0, color="grey", lw=0.5)
     ax[0].set(xlabel="projected area per molecule a", ylabel="tension int (p_N - p_T) dz",
-              title=f"H3(T4)2 bilayer, {2 * a.n_side**2} molecules")
+              title=f"{pset['molecule'].name} bilayer, {2 * a.n_side**2} molecules")
     ax[0].legend(fontsize=8)
     near = rows[int(np.argmin(np.abs(y)))]
     d = os.path.join(a.out, f"a{near['area']:.3f}")

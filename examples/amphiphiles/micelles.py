@@ -54,8 +54,8 @@ a = {a_hw}
 
 [[pair.override]]
 species = ["H", "T"]
-a = 50.0
-
+a = {a_ht}
+{tt}
 [[pair.override]]
 species = ["T", "W"]
 a = {a_tw}
@@ -68,13 +68,17 @@ r0 = 0.5
 
 [[angle_type]]
 name = "stiff"
-k = 20.0
+k = {angle_k}
 theta0 = 0.0
 """
 
 
-def interactions(a_tw=75.0, a_hw=35.0, a_hh=30.0):
-    return INTERACTIONS_TEMPLATE.format(a_tw=float(a_tw), a_hw=float(a_hw), a_hh=float(a_hh))
+def interactions(a_tw=75.0, a_hw=35.0, a_hh=30.0, a_ht=50.0, a_tt=25.0, angle_k=20.0):
+    """The [pair], overrides, bond and angle types (a_WW = 25 is the default repulsion; a T-T
+    override is written only when a_tt differs from it)."""
+    tt = "" if a_tt == 25.0 else f'\n[[pair.override]]\nspecies = ["T", "T"]\na = {float(a_tt)}\n'
+    return INTERACTIONS_TEMPLATE.format(a_tw=float(a_tw), a_hw=float(a_hw), a_hh=float(a_hh),
+                                        a_ht=float(a_ht), tt=tt, angle_k=float(angle_k))
 
 
 INTERACTIONS = interactions()
