@@ -229,6 +229,7 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--seed", type=int, default=5)
     ap.add_argument("--set", default="A", choices=sorted(PARAMETER_SETS), help="parameter set (README.md)")
+    ap.add_argument("--dt", type=float, default=0.0, help="time step (default: the set's, 0.02)")
     ap.add_argument("--dump-every", type=int, default=0, help="also write a GSD trajectory (0: none)")
     ap.add_argument("--plot-only", action="store_true", help="collect the existing runs in --out")
     a = ap.parse_args()
@@ -243,7 +244,7 @@ def main():
         if not a.plot_only:
             with open(os.path.join(d, "config.toml"), "w") as f:
                 f.write(CONFIG.format(lx=lx, ly=lx, lz=lz, seed=a.seed, steps=a.steps,
-                                      interactions=pset["interactions"], dt=pset["dt"])
+                                      interactions=pset["interactions"], dt=a.dt or pset["dt"])
                         + PROFILE.format(bins=int(round(lz / 0.2)), start=a.start, every=a.every)
                         + (DUMP.format(every=a.dump_every) if a.dump_every else ""))
             subprocess.run([a.mesodpd, "run", os.path.join(d, "config.toml"), "--out", d, "--threads",

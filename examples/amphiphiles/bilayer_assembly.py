@@ -11,9 +11,11 @@ its normal) or, with --area a, bilayer.py's box for M molecules at a projected a
 (Lx = Ly = sqrt(a M / 2), Lz = N / (3 Lx Ly)).
 
 Each frame is measured from the tail beads (README.md, "Bilayer from a random start"):
-  slab_x, slab_y, slab_z  fraction of the tail beads in the best periodic slab of width w normal to
-                          each axis (w = twice a tail's contour length: 4 for T4, 6 for T6); the
-                          normal is the axis with the largest fraction;
+  slab_x, slab_y, slab_z  for each axis, how much more of the tail beads lie in the best periodic slab
+                          of width w normal to it than a uniform spread puts there: (f - w/L) /
+                          (1 - w/L), f the fraction inside (0: uniform, 1: all inside); w = 2 (n + 1) r0
+                          for tails of n beads (5 for T4, 7 for T6; the pre-assembled H3(T4)2 bilayer
+                          has 93% of its tail beads within it); the normal is the axis with the largest;
   coverage                fraction of the cells (about 1 x 1) of the plane normal to it that hold a
                           tail bead of the slab (a membrane spanning the box covers them all, a
                           cylinder a strip, a micelle a disc);
@@ -29,8 +31,10 @@ Each frame is measured from the tail beads (README.md, "Bilayer from a random st
   lamellar_peaks          how many of the 13 lattice directions (h, k, l in {-1, 0, 1}) have a tail
                           density wave |<exp(i q.r)>| > 0.3 (a lamella: 1; a cylinder along an axis:
                           4; one compact micelle: 13; a random state: 0).
-A frame is a bilayer when slab >= 0.85, coverage >= 0.95 and largest >= 0.9 M (thresholds below the
-pre-assembled bilayer's values and above those of random, cylinder and micelle states).
+A frame is a bilayer when the slab excess >= 0.7, coverage >= 0.95, largest >= 0.9 M, water_core < 0.05
+and tail_water < 0.05 (the pre-assembled bilayer at a = 1.05, 80-400 time units: 0.875, 1, all, 0, 0;
+the random starts at step 0: excess 0.1-0.2; tests/analysis/test_bilayer_assembly.py: a cylinder and
+a micelle fail on the coverage).
 
 Written: assembly_time.csv (per frame), assembly.json (the first time from which every frame is a
 bilayer, the averages over the window, the tension L_n (P_nn - (P_aa + P_bb) / 2) along the normal from
@@ -38,9 +42,12 @@ thermo.csv and, with --reference, the same for a pre-assembled run), assembly.pn
 density profiles of W, H and T along the normal beside the reference's, a side view of the last frame).
 
     nice -n 19 /usr/bin/python3 examples/amphiphiles/bilayer_assembly.py --mesodpd build/mesodpd \\
-        --out out/bil-cube --box 10 --molecules 192 --steps 60000 --every 500 --seed 1
-    /usr/bin/python3 examples/amphiphiles/bilayer_assembly.py --out out/bil-cube --box 10 --molecules 192 \\
-        --analyse-only --window-start 40000 --reference out/bilayer-ref/a1.050
+        --out out/bil-a105-s1 --area 1.05 --molecules 128 --steps 100000 --every 500 --seed 1
+    /usr/bin/python3 examples/amphiphiles/bilayer_assembly.py --out out/bil-a105-s1 --analyse-only \\
+        --window-start 20000 --reference out/bil-ref/a1.050
+
+(--reference: a run of `bilayer.py --dump-every N`; --analyse-only takes the box, seed and time step
+from the run's files, --set must be the run's.)
 
 A run is continued with `mesodpd run <out>/config.toml --out <out> --restart <out>/checkpoint.mdpd
 --steps N` and then analysed with --analyse-only.
@@ -279,6 +286,9 @@ def analyse_run(d, width, window_start, dt):
     summary["box"] = list(box)
     summary["tension"] = thermo_tension(os.path.join(d, "thermo.csv"), win[0]["step"], box[n], normal)
     summary["inplane_area"] = float(np.prod([box[k] for k in range(3) if k != n]))
+    summary["molecules"] = int(len(np.unique(mol[mol > 0])))
+    summary["particles"] = int(len(mol))
+    summary["area_per_molecule"] = summary["inplane_area"] / (summary["molecules"] / 2)
     return rows, summary, (z, prof), last
 
 
@@ -287,6 +297,7 @@ def main():
     ap.add_argument("--mesodpd", default=os.path.join(HERE, "..", "..", "build", "mesodpd"))
     ap.add_argument("--out", default="out/bilayer-assembly")
     ap.add_argument("--set", default="A", choices=sorted(PARAMETER_SETS), help="parameter set (README.md)")
+    ap.add_argument("--dt", type=float, default=0.0, help="time step (default: the set's, 0.02)")
     ap.add_argument("--box", type=float, default=10.0, help="cubic box side")
     ap.add_argument("--area", type=float, default=0.0, help="instead of --box: bilayer.py's box at this area")
     ap.add_argument("--molecules", type=int, default=192)
@@ -309,18 +320,18 @@ def main():
         random_start(os.path.join(a.out, "bilayer.data"), box, a.molecules, total, a.seed, mol)
         with open(os.path.join(a.out, "config.toml"), "w") as f:
             f.write(CONFIG.format(lx=box[0], ly=box[1], lz=box[2], seed=a.seed, steps=a.steps,
-                                  interactions=pset["interactions"], dt=pset["dt"]) + DUMP.format(every=a.every))
+                                  interactions=pset["interactions"], dt=a.dt or pset["dt"]) + DUMP.format(every=a.every))
         subprocess.run([a.mesodpd, "run", os.path.join(a.out, "config.toml"), "--out", a.out, "--threads",
                         str(a.threads)], check=True)
-    dt = pset["dt"]
+    dt = config_value(a.out, "dt")
     rows, summary, (z, prof), last = analyse_run(a.out, width, a.window_start, dt)
-    summary.update(set=a.set, molecule=mol.name, molecules=a.molecules, particles=total, seed=a.seed, width=width,
-                   area_per_molecule=summary["inplane_area"] / (a.molecules / 2), thresholds=dict(
+    summary.update(set=a.set, molecule=mol.name, seed=int(config_value(a.out, "seed")), width=width, thresholds=dict(
                        slab=SLAB_MIN, coverage=COVERAGE_MIN, largest=LARGEST_MIN, lamellar=LAMELLAR_THRESHOLD))
     ref = None
     if a.reference:
-        rrows, rsum, (rz, rprof), _ = analyse_run(a.reference, width, rows_window(a.reference), dt)
-        rsum["area_per_molecule"] = rsum["inplane_area"] / (a.molecules / 2)
+        # The reference's averages start where its stress profile does (bilayer.py's --start).
+        rrows, rsum, (rz, rprof), _ = analyse_run(a.reference, width, int(config_value(a.reference, "start", 0)),
+                                                  config_value(a.reference, "dt"))
         summary["reference"] = {k: v for k, v in rsum.items()}
         summary["reference"]["dir"] = a.reference
         ref = (rz, rprof)
@@ -331,16 +342,16 @@ def main():
     with open(os.path.join(a.out, "assembly.json"), "w") as f:
         json.dump(summary, f, indent=2)
     report(summary)
-    plot(a.out, rows, summary, z, prof, ref, last, a.molecules)
+    plot(a.out, rows, summary, z, prof, ref, last, summary["molecules"])
 
 
-def rows_window(d):
-    """The reference's averaging start: the `start` of its stress profile (bilayer.py's --start)."""
-    cfg = open(os.path.join(d, "config.toml")).read()
-    for line in cfg.splitlines():
-        if line.startswith("start = "):
-            return int(line.split("=")[1])
-    return 0
+def config_value(d, key, default=None):
+    """The first `key = value` of run directory d's config.toml, as a number (default if absent)."""
+    with open(os.path.join(d, "config.toml")) as f:
+        for line in f:
+            if line.startswith(f"{key} = "):
+                return float(line.split("=")[1])
+    return default
 
 
 def report(s):
@@ -384,8 +395,10 @@ def plot(out, rows, s, z, prof, ref, last, molecules):
         if ref:
             ax[1].plot(ref[0], ref[1][sp], color=c, ls="--", lw=1, label=f"{sp} (pre-assembled)")
     ax[1].set(xlabel=f"distance from mid-plane along {s['normal']}", ylabel="number density",
-              title=f"a = {s['area_per_molecule']:.3f} per molecule")
-    ax[1].legend(fontsize=7, ncol=2)
+              title=f"a = {s['area_per_molecule']:.3f} per molecule" + (
+                  f" (pre-assembled: {s['reference']['area_per_molecule']:.3f})" if ref else ""))
+    ax[1].set_ylim(0, 4.3)
+    ax[1].legend(fontsize=6, ncol=2, loc="upper center")
     pos, species, box, r = last
     n = AXES.index(r["normal"])
     k = [j for j in range(3) if j != n][0]

@@ -4,7 +4,7 @@
 # every bead inside the box, the angles of each molecule: along the chains, none across the branch point, Osprey-DPD's
 # lipid only H-T-T and T-T-T) and the membrane measures: bilayer.py's pre-assembled bilayer (as
 # placed, with random displacements, and turned so that its normal is x) is a bilayer; the random
-# starts, a cylinder and a spherical micelle are not; the lamellar peaks count 1, 4 and 13 directions.
+# starts, the bilayer with a stalk through the water, a cylinder and a spherical micelle are not; the lamellar peaks count 1, 4 and 13 directions.
 # usage: test_bilayer_assembly.py SOURCE_DIR
 import os
 import sys
@@ -82,6 +82,17 @@ for what, p, b in (("as placed", pos, bx),
           f"pre-assembled {what}: bilayer {met['bilayer']}, normal {met['normal']}, slab excess "
           f"{met['slab_' + met['normal']]:.2f}, coverage {met['coverage']:.2f}, water in core {met['water_core']:.3f}")
 
+# The same bilayer with a stalk: a column (radius 1) of tail beads of its molecules across the water.
+lz = bx[2]
+k = np.flatnonzero(species == "W")[:150]
+p = pos.copy()
+r, phi = np.sqrt(rng.uniform(0, 1, 150)), rng.uniform(0, 2 * np.pi, 150)
+p[k] = np.stack([4 + r * np.cos(phi), 4 + r * np.sin(phi), 0.5 * lz + 3.0 + rng.uniform(0, lz - 6.0, 150)], 1) % bx
+s2, m2 = species.copy(), mids.copy()
+s2[k], m2[k] = "T", 1 + np.arange(150) % 128
+met = A.metrics(p, s2, m2, bx, w)
+check(met["bilayer"] == 0 and met["tail_water"] > 0.05 and met["coverage"] == 1.0,
+      f"pre-assembled with a stalk: bilayer {met['bilayer']}, tails in the water layer {met['tail_water']:.3f}")
 
 # 4. A cylinder along y and a spherical micelle (molecules along radii, tails inside, in water).
 def radial(n_mol, directions, centres, box):
