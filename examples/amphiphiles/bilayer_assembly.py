@@ -73,8 +73,9 @@ AXES = "xyz"
 
 
 def slab_width(mol, bond=0.5):
-    """Twice the contour length of the longest run of bonded tail beads, plus a bond each side (the
-    pre-assembled H3(T4)2 bilayer at a = 1.05 has 93% of its tail beads within this slab)."""
+    """The slab width 2 (n + 1) r0 for the longest run of n bonded tail beads: n + 1 bond lengths on each
+    side of the mid-plane (the pre-assembled H3(T4)2 bilayer at a = 1.05 has 93% of its tail beads
+    within it)."""
     run = []
     for i, p in enumerate(mol.parent):
         t = mol.species[i] == "T"
@@ -249,6 +250,8 @@ def analyse_run(d, width, window_start, dt):
     frame and the thermo tension along the window's normal."""
     from chain_analysis import mean_error
 
+    if not os.path.isfile(os.path.join(d, "trajectory.gsd")):
+        raise SystemExit(f"{d}: no trajectory.gsd (a bilayer_assembly.py run, or bilayer.py with --dump-every)")
     rows, last = [], None
     for step, pos, species, mol, box in read_frames(os.path.join(d, "trajectory.gsd")):
         r = dict(step=step, time=step * dt, **metrics(pos, species, mol, box, width))
@@ -315,8 +318,8 @@ def main():
     total = a.total or (3000 if a.area else int(round(3.0 * a.box**3)))
     box = box_for(a.box, a.area, a.molecules, total)
     width = slab_width(mol)
-    os.makedirs(a.out, exist_ok=True)
     if not a.analyse_only:
+        os.makedirs(a.out, exist_ok=True)
         random_start(os.path.join(a.out, "bilayer.data"), box, a.molecules, total, a.seed, mol)
         with open(os.path.join(a.out, "config.toml"), "w") as f:
             f.write(CONFIG.format(lx=box[0], ly=box[1], lz=box[2], seed=a.seed, steps=a.steps,
@@ -347,6 +350,8 @@ def main():
 
 def config_value(d, key, default=None):
     """The first `key = value` of run directory d's config.toml, as a number (default if absent)."""
+    if not os.path.isfile(os.path.join(d, "config.toml")):
+        raise SystemExit(f"{d}: no config.toml (not a bilayer_assembly.py or bilayer.py run directory)")
     with open(os.path.join(d, "config.toml")) as f:
         for line in f:
             if line.startswith(f"{key} = "):
