@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -27,25 +28,20 @@ void group_by_owner(const std::vector<std::uint32_t>& owners, std::uint32_t max_
   for (std::size_t k = 0; k < owners.size(); ++k) items[next[owners[k]]++] = static_cast<std::uint32_t>(k);
 }
 
-// Integer adds into f. A thread adds directly to the particles in [lo, hi), the owners it visits (no
-// other thread adds there), and sets the others' contributions aside in `away`, added after the loop:
-// integer sums do not depend on the order, so the result is the same bits on any thread count. On one
-// thread the range is every stored particle.
-using detail::BondedAdd;
-struct RangeAdder {
-  std::int64_t* f;
-  std::size_t lo, hi;
-  std::vector<BondedAdd>* away;
-  void operator()(std::size_t i, std::int64_t qx, std::int64_t qy, std::int64_t qz) const {
-    if (i - lo < hi - lo) {
-      f[3 * i] += qx;
-      f[3 * i + 1] += qy;
-      f[3 * i + 2] += qz;
-    } else {
-      away->push_back({{qx, qy, qz}, i});
-    }
+// Integer adds: atomic when several threads may add to one particle (the result does not depend on
+// their order), plain on one thread.
+template <bool kAtomic>
+inline void add(std::int64_t* f, std::size_t i, std::int64_t qx, std::int64_t qy, std::int64_t qz) {
+  if constexpr (kAtomic) {
+    std::atomic_ref<std::int64_t>(f[3 * i]).fetch_add(qx, std::memory_order_relaxed);
+    std::atomic_ref<std::int64_t>(f[3 * i + 1]).fetch_add(qy, std::memory_order_relaxed);
+    std::atomic_ref<std::int64_t>(f[3 * i + 2]).fetch_add(qz, std::memory_order_relaxed);
+  } else {
+    f[3 * i] += qx;
+    f[3 * i + 1] += qy;
+    f[3 * i + 2] += qz;
   }
-};
+}
 
 constexpr std::uint64_t kNoProblem = std::numeric_limits<std::uint64_t>::max();
 std::uint64_t problem_key(BondProblem::Kind kind, std::uint64_t index) {
@@ -281,7 +277,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   const bool no_angles = owned_angles_.empty();
   // The terms owned by local particle i.
   // `a`: the thread's integer sums ([0..5] virial tensor, [6] its trace, [7] energy).
-  auto terms = [&](std::size_t i, std::int64_t* a, std::uint64_t& problem, const RangeAdder& add) {
+  auto terms = [&]<bool kAtomic>(std::size_t i, std::int64_t* a, std::uint64_t& problem) {
     for (std::uint32_t k = lb_start_[i]; k < lb_start_[i + 1]; ++k) {
       // Partners a sort layer away in storage are often not in cache yet: fetch them a few bonds ahead
       // (a hint; results do not depend on it).
@@ -306,7 +302,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
       const std::size_t ia = owner_first ? i : j, ib = owner_first ? j : i;
       double d[3];
       const double r2 = displacement(ia, ib, d);
-      const BondForce bf = bond_force_sq(bond_types_[b.meta >> 1], r2);
+      const BondForce bf = bond_force(bond_types_[b.meta >> 1], std::sqrt(r2));
       if (bf.broken) {
         problem = std::min(problem, problem_key(BondProblem::Broken, index()));
         continue;
@@ -314,8 +310,8 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
       const double F[3] = {bf.f_over_r * d[0], bf.f_over_r * d[1], bf.f_over_r * d[2]};
       const std::int64_t qx = to_fixed(F[0], kForceScale), qy = to_fixed(F[1], kForceScale),
                          qz = to_fixed(F[2], kForceScale);
-      add(ia, qx, qy, qz);
-      add(ib, -qx, -qy, -qz);
+      add<kAtomic>(f, ia, qx, qy, qz);
+      add<kAtomic>(f, ib, -qx, -qy, -qz);
       if (with_sums) {
         virial(a, d, F);
         a[7] += to_fixed(bf.energy, kVirialScale);
@@ -337,9 +333,9 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
                                   to_fixed(af.f1[2], kForceScale)};
       const std::int64_t q3[3] = {to_fixed(af.f3[0], kForceScale), to_fixed(af.f3[1], kForceScale),
                                   to_fixed(af.f3[2], kForceScale)};
-      add(ja, q1[0], q1[1], q1[2]);
-      add(jc, q3[0], q3[1], q3[2]);
-      add(i, -(q1[0] + q3[0]), -(q1[1] + q3[1]), -(q1[2] + q3[2]));
+      add<kAtomic>(f, ja, q1[0], q1[1], q1[2]);
+      add<kAtomic>(f, jc, q3[0], q3[1], q3[2]);
+      add<kAtomic>(f, i, -(q1[0] + q3[0]), -(q1[1] + q3[1]), -(q1[2] + q3[2]));
       if (with_sums) {
         // sum over atoms of r (x) F with r_a = r_b - b1, r_c = r_b + b2: -b1 (x) F1 + b2 (x) F3.
         const double m1[3] = {-b1[0], -b1[1], -b1[2]};
@@ -351,29 +347,15 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   };
   // Owners in storage order: their positions and forces are read in order, and bonded partners are
   // near in space, hence near in the cell-sorted storage, so the partners' data is mostly in cache.
-  // With several threads each takes a contiguous range of owners; only partners outside it (near the
-  // range's ends, and ghosts) go through the set-aside lists.
-  const int threads = omp_get_max_threads();
-  if (threads == 1) {
-    const RangeAdder add{f, 0, ntot, nullptr};
-    for (std::size_t i = 0; i < n; ++i) terms(i, acc, problem, add);
-  } else {
-    away_.resize(static_cast<std::size_t>(threads));
-#pragma omp parallel reduction(+ : acc[:8]) reduction(min : problem)
-    {
-      const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-      const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
-      std::vector<BondedAdd>& away = away_[t];
-      away.clear();
-      const RangeAdder add{f, n * t / nt, n * (t + 1) / nt, &away};
-      for (std::size_t i = add.lo; i < add.hi; ++i) terms(i, acc, problem, add);
-    }
-    for (std::vector<BondedAdd>& away : away_) {
-      for (const BondedAdd& e : away)
-        for (std::size_t c = 0; c < 3; ++c) f[3 * e.i + c] += e.q[c];
-      away.clear();
-    }
-  }
+  const bool atomic = omp_get_max_threads() > 1;
+  auto run = [&]<bool kAtomic>() {
+#pragma omp parallel for schedule(static) reduction(+ : acc[:8]) reduction(min : problem)
+    for (std::size_t i = 0; i < n; ++i) terms.template operator()<kAtomic>(i, acc, problem);
+  };
+  if (atomic)
+    run.template operator()<true>();
+  else
+    run.template operator()<false>();
 
   const Comm& comm = halo.comm();
   if (comm.distributed()) problem = comm.min(problem);
@@ -482,8 +464,8 @@ void BondedForces::virial_terms(const ParticleData& p, const Box& box, VirialTer
     t.i = index(b.a);
     t.j = index(b.b);
     displacement(t.i, t.j, t.d);
-    const BondForce bf = bond_force_sq(bond_types_[static_cast<std::size_t>(b.type)],
-                                       t.d[0] * t.d[0] + t.d[1] * t.d[1] + t.d[2] * t.d[2]);
+    const BondForce bf = bond_force(bond_types_[static_cast<std::size_t>(b.type)],
+                                    std::sqrt(t.d[0] * t.d[0] + t.d[1] * t.d[1] + t.d[2] * t.d[2]));
     for (int c = 0; c < 3; ++c) t.f[c] = bf.f_over_r * t.d[c];  // zero for a broken bond, which stops a run
     out.push_back(t);
   }

@@ -37,14 +37,6 @@ struct BondProblem {
 using PairSubtractor =
     std::function<void(std::span<const std::uint32_t> pairs, std::int64_t* fixed, std::int64_t* totals)>;
 
-namespace detail {
-// A bonded force contribution a thread sets aside for a particle outside its range (bonded_forces.cpp).
-struct BondedAdd {
-  std::int64_t q[3];
-  std::size_t i;
-};
-}  // namespace detail
-
 class BondedForces {
  public:
   BondedForces() = default;
@@ -145,8 +137,6 @@ class BondedForces {
   std::vector<std::uint32_t> excl_pairs_;  // storage index pairs of one evaluation
   IdMap ids_;
   std::vector<std::int64_t> fixed_;  // integer forces, 3 per stored particle
-  // Each thread's additions to particles outside its range of owners (one vector per thread).
-  std::vector<std::vector<detail::BondedAdd>> away_;
   bool fixed_zero_ = false;          // every entry of fixed_ is zero
 };
 

@@ -32,26 +32,19 @@ struct BondForce {
   bool broken = false;
 };
 
-// The bond law at squared bond length r2 = r^2 (r = 0 gives a zero force for the laws with a rest
-// length of zero). The square root is taken only by the laws that need r itself: a harmonic spring with
-// r0 = 0 (Groot and Warren's) and FENE are functions of r^2.
-MESODPD_HD BondForce bond_force_sq(const BondParams& p, double r2) {
+// The bond law for bond length r > 0 (r = 0 gives a zero force for the laws with a rest length of zero).
+MESODPD_HD BondForce bond_force(const BondParams& p, double r) {
   BondForce out;
   switch (p.style) {
     case BondStyle::Harmonic: {
-      if (p.r0 == 0.0) {  // -dU/dr / r = -k, also at r = 0
-        out.energy = 0.5 * p.k * r2;
-        out.f_over_r = -p.k;
-        break;
-      }
-      const double r = std::sqrt(r2);
       const double dr = r - p.r0;
       out.energy = 0.5 * p.k * dr * dr;
-      out.f_over_r = r > 0.0 ? -p.k * dr / r : 0.0;
+      // -dU/dr / r; with r0 = 0 this is -k even at r = 0 (no division).
+      out.f_over_r = p.r0 == 0.0 ? -p.k : (r > 0.0 ? -p.k * dr / r : 0.0);
       break;
     }
     case BondStyle::Fene: {
-      const double x2 = r2 / (p.rmax * p.rmax);
+      const double x2 = (r * r) / (p.rmax * p.rmax);
       if (!(x2 < 1.0)) {
         out.broken = true;
         break;
@@ -61,7 +54,6 @@ MESODPD_HD BondForce bond_force_sq(const BondParams& p, double r2) {
       break;
     }
     case BondStyle::Wlc: {
-      const double r = std::sqrt(r2);
       const double l = p.rmax;
       if (!(r < l)) {
         out.broken = true;
@@ -71,15 +63,12 @@ MESODPD_HD BondForce bond_force_sq(const BondParams& p, double r2) {
       const double f = -p.k * (1.0 / (s * s) + 4.0 * r / l - 1.0);  // along r-hat
       // f / r stays finite at r -> 0: (1/s^2 - 1) / r -> 2 / l, 4 / l from the linear term.
       out.f_over_r = r > 0.0 ? f / r : -p.k * 6.0 / l;
-      out.energy = p.k * (r2 / (l - r) + 2.0 * r2 / l);
+      out.energy = p.k * (r * r / (l - r) + 2.0 * r * r / l);
       break;
     }
   }
   return out;
 }
-
-// The same at bond length r.
-MESODPD_HD BondForce bond_force(const BondParams& p, double r) { return bond_force_sq(p, r * r); }
 
 // Parameters of one angle type: U = k [1 - cos(theta - theta0)] (seed 002 Eq. 32, the bending
 // potential of Shillcock and Lipowsky), theta the angle between the two bond vectors b1 = r_2 - r_1
