@@ -132,6 +132,9 @@ def analyse(path, dt, skip=0):
         re = r[:, :, -1, :] - r[:, :, 0, :]
         re2 = (re**2).sum(axis=2)
         c_e = acf(re)
+        # tau_e of each quarter of the run, for its error (each quarter's own autocorrelation)
+        quarters = np.array_split(np.arange(len(times)), 4) if len(times) >= 40 else []
+        tau_blocks = [relaxation_time(times[q] - times[q[0]], acf(re[q])) for q in quarters]
         dg = rg2 - rg2.mean()
         c_g = acf(dg)
         lags = np.arange(1, len(times))
@@ -154,7 +157,7 @@ def analyse(path, dt, skip=0):
         results[name] = dict(
             molecules=len(mols), beads=rows.shape[1], times=times, rg2_t=rg2.mean(axis=1), re2_t=re2.mean(axis=1),
             rg2=mean_error(rg2.mean(axis=1)), re2=mean_error(re2.mean(axis=1)), c_e=c_e, c_g=c_g,
-            tau_e=relaxation_time(times, c_e), tau_g=relaxation_time(times, c_g), msd=msd, lags=times[1:], d=d,
+            tau_e=relaxation_time(times, c_e), tau_e_blocks=tau_blocks, tau_g=relaxation_time(times, c_g), msd=msd, lags=times[1:], d=d,
             bond_lengths=blen, angles=theta)
     return results
 
