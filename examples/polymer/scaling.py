@@ -132,9 +132,9 @@ def main():
     sel = (n >= 10) & np.isfinite(tau) & np.isfinite(tau_err) & (tau_err > 0)
     if sel.sum() >= 3:
         wt = tau[sel] / tau_err[sel]
-        p, cv = np.polyfit(np.log(n[sel]), np.log(tau[sel]), 1, w=wt, cov="unscaled")
+        p, cv = np.polyfit(np.log(n[sel]), np.log(tau[sel]), 1, w=wt, cov=True)  # error scaled by the scatter
         print(f"tau_e ~ N^x over N = {', '.join(f'{v:.0f}' for v in n[sel])}: x = {p[0]:.2f} +- {np.sqrt(cv[0, 0]):.2f}"
-              f" (Rouse 1 + 2 nu = {1 + 2 * nu:.2f}, Zimm 3 nu = {3 * nu:.2f})")
+              f" (error scaled by the scatter; Rouse 1 + 2 nu = {1 + 2 * nu:.2f}, Zimm 3 nu = {3 * nu:.2f})")
     import matplotlib
 
     matplotlib.use("Agg")
