@@ -12,19 +12,13 @@ import tempfile
 
 import numpy as np
 
+from checks import check, finish  # tests/analysis/checks.py
+
 source = sys.argv[1]
 sys.path.insert(0, os.path.join(source, "tools"))
 sys.path.insert(0, os.path.join(source, "examples", "amphiphiles"))
 import bilayer as B  # noqa: E402
 import bilayer_assembly as A  # noqa: E402
-
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 tmp = tempfile.mkdtemp(prefix="bilayer_assembly_")
@@ -123,7 +117,4 @@ met = A.metrics(*radial(60, u, np.tile([5.0, 5.0, 5.0], (60, 1)), box), tuple(bo
 check(met["bilayer"] == 0 and met["coverage"] < 0.3 and met["lamellar_peaks"] == 13,
       f"spherical micelle: bilayer {met['bilayer']}, coverage {met['coverage']:.2f}, lamellar peaks {met['lamellar_peaks']}")
 
-if failures:
-    print(f"{len(failures)} check(s) failed")
-    sys.exit(1)
-print("all checks passed")
+finish()

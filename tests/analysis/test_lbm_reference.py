@@ -12,18 +12,13 @@ import sys
 
 import numpy as np
 
+from checks import check, finish  # tests/analysis/checks.py
+
 source = sys.argv[1]
 path = os.path.join(source, "examples", "pillar", "lbm_reference.py")
 spec = importlib.util.spec_from_file_location("lbm_reference", path)
 lbm = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(lbm)
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 # 1. empty channel h = 20 nodes from rest at fixed g: U = g h^2 / (12 nu) (node average: midpoint rule)
@@ -61,4 +56,4 @@ for bad, word in ((["--res", "5"], "even"), (["--re", "-1"], "positive")):
     p = subprocess.run(["/usr/bin/python3", path] + bad + ["--out", os.devnull], capture_output=True, text=True)
     check(p.returncode != 0 and word in p.stderr, "%s refused (exit %d): %s" % (" ".join(bad), p.returncode, p.stderr.strip()))
 
-sys.exit(1 if failures else 0)
+finish()

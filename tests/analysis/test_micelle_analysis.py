@@ -11,18 +11,13 @@ import sys
 
 import numpy as np
 
+from checks import check, finish  # tests/analysis/checks.py
+
 source = sys.argv[1]
 sys.path.insert(0, os.path.join(source, "tools"))
 spec = importlib.util.spec_from_file_location("micelles", os.path.join(source, "examples", "amphiphiles", "micelles.py"))
 mic = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(mic)
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 # 1. Clusters from tail contacts. Molecules of one head (H) and two tail beads (T), box 10.
@@ -79,7 +74,4 @@ check(abs(p[1] - 5 / 24) < 1e-12 and abs(p[2] - 4 / 24) < 1e-12 and abs(p[3] - 3
 check((stats["exits"], stats["entries"], stats["molecules_ever_free"]) == (1, 4, 4),
       f"exits {stats['exits']}, entries {stats['entries']}, ever free {stats['molecules_ever_free']}")
 
-if failures:
-    print(f"{len(failures)} check(s) failed")
-    sys.exit(1)
-print("all checks passed")
+finish()
