@@ -14,7 +14,7 @@
 
 #include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "mesodpd/flow_numbers.hpp"
 #include "mesodpd/units.hpp"
 #include "mesodpd/validate.hpp"

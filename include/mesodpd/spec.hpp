@@ -5,24 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "mesodpd/config_error.hpp"
+
 namespace mesodpd {
-
-// A configuration problem, always naming the offending key, file or value.
-class ConfigError : public std::runtime_error {
- public:
-  explicit ConfigError(const std::string& what, std::string key = {})
-      : std::runtime_error(what), key_(std::move(key)) {}
-  // The full key the problem is about, as the TOML schema spells it ("pair.override[1].rd"), where the
-  // error is about one key (the TOML reader and validate() set it); empty otherwise.
-  const std::string& key() const { return key_; }
-
- private:
-  std::string key_;
-};
 
 enum class Placement { Lattice, Random };
 enum class IntegratorKind { GrootWarren, Euler };

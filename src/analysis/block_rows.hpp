@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "io/byte_buffer.hpp"
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 

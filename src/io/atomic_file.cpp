@@ -12,7 +12,7 @@
 #include <string>
 #include <system_error>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 namespace {

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 

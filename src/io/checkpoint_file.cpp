@@ -10,7 +10,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/byte_buffer.hpp"
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 namespace {

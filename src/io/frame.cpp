@@ -8,7 +8,7 @@
 #include <string_view>
 #include <utility>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 

@@ -26,7 +26,7 @@
 #include <span>
 
 #include "io/byte_buffer.hpp"
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 namespace {

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 namespace {

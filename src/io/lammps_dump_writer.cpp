@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 #ifdef MESODPD_HAVE_MPI
 #include <mpi.h>

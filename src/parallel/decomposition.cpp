@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "mesodpd/spec.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 

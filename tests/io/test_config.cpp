@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "mesodpd/validate.hpp"
 
 namespace mesodpd {

@@ -14,7 +14,7 @@
 #include "engine/force_compute.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "parallel/comm.hpp"
 
 using namespace mesodpd;

@@ -21,7 +21,7 @@
 #include "analysis/observers.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "random_particles.hpp"
 #include "test_support.hpp"
 

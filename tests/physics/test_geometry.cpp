@@ -12,7 +12,7 @@
 
 #include "boundary/geometry.hpp"
 #include "boundary/voxel_image.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 
 namespace mesodpd {
 namespace {

@@ -15,7 +15,7 @@
 
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "physics/mdpd_pair.hpp"
 #include "physics/spline_pair.hpp"
 #include "random_particles.hpp"

@@ -11,7 +11,7 @@
 
 #include "boundary/walls.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "test_support.hpp"
 
 namespace mesodpd {

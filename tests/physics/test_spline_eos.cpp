@@ -15,7 +15,7 @@
 
 #include "analysis/surface_tension.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;

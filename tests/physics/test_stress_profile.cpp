@@ -15,7 +15,7 @@
 #include "analysis/observers.hpp"
 #include "analysis/stress_profile.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;

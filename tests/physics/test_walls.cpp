@@ -14,7 +14,7 @@
 #include "engine/pair_laws.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "test_support.hpp"
 
 namespace mesodpd {

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "engine/simulation.hpp"
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 #include "test_support.hpp"
 
 namespace mesodpd {

@@ -1,6 +1,6 @@
 // TOML configuration -> SimulationSpec: unknown keys and types are checked here, ranges and derived
 // defaults by validate(spec); every error names the full key and, where the file has it, file:line:col.
-#include "io/config.hpp"
+#include "mesodpd/config.hpp"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
