@@ -4,26 +4,13 @@
 #include <string>
 #include <vector>
 
+#include "mesodpd/key_table.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
 
 // The most OpenMP threads a run accepts (run.threads, --threads): more is a typo, not a request.
 inline constexpr int kMaxThreads = 1024;
-
-// A problem with one key of a spec. `key` is the full key as the TOML schema spells it
-// ("pair.override[1].rd", "system.box[2]"), `value` the offending value as text (empty when the key
-// is absent), `why` what is wrong or allowed. what() is "key = value: why" ("key: why" without a
-// value); the TOML reader prefixes the key's file:line:col.
-class SpecError : public ConfigError {
- public:
-  SpecError(std::string key, std::string value, std::string why);
-  const std::string& value() const { return value_; }
-  const std::string& why() const { return why_; }
-
- private:
-  std::string value_, why_;
-};
 
 // Checks every value of `spec` against its allowed range and the others it depends on, and fills what
 // follows from other values: species counts from densities, the resolved `pairs` table from

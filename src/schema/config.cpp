@@ -24,310 +24,24 @@
 #include <vector>
 
 #include "mesodpd/validate.hpp"
+#include "analysis/analysis_keys.hpp"
+#include "boundary/boundary_keys.hpp"
+#include "engine/bonded_keys.hpp"
+#include "engine/run_keys.hpp"
+#include "integrate/integrator_keys.hpp"
+#include "schema/section.hpp"
 
 namespace mesodpd {
 namespace {
 
 namespace fs = std::filesystem;
-
-// ---------------------------------------------------------------------------------------------
-// Message helpers
-
-// Case-insensitive Levenshtein distance, used to guess what a misspelt key or choice meant.
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-// The candidate nearest to `given`, if near enough to be a plausible typo.
-std::optional<std::string_view> closest(std::string_view given,
-                                        const std::vector<std::string_view>& candidates) {
-  std::optional<std::string_view> best;
-  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
-  for (const std::string_view c : candidates) {
-    const std::size_t d = edit_distance(given, c);
-    if (d < best_distance) best = c, best_distance = d;
-  }
-  if (best_distance > std::max<std::size_t>(2, given.size() / 3)) return std::nullopt;
-  return best;
-}
-
-std::string join(const std::vector<std::string_view>& items, std::string_view quote = "") {
-  std::string out;
-  for (const std::string_view item : items) {
-    if (!out.empty()) out += ", ";
-    out += fmt::format("{}{}{}", quote, item, quote);
-  }
-  return out;
-}
-
-std::string type_name(const toml::node& n) {
-  switch (n.type()) {
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a float";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::date:
-    case toml::node_type::time:
-    case toml::node_type::date_time:
-      return "a date/time";
-    default:
-      return "an empty value";
-  }
-}
-
-// The value as the user wrote it (near enough), for "key = value: problem" messages.
-std::string show(const toml::node& n) {
-  if (const auto* v = n.as_integer()) return fmt::format("{}", v->get());
-  if (const auto* v = n.as_floating_point()) return fmt::format("{}", v->get());
-  if (const auto* v = n.as_string()) return fmt::format("\"{}\"", v->get());
-  if (const auto* v = n.as_boolean()) return v->get() ? "true" : "false";
-  if (const auto* arr = n.as_array()) {
-    std::string out = "[";
-    for (std::size_t i = 0; i < arr->size(); ++i) out += (i ? ", " : "") + show(*arr->get(i));
-    return out + "]";
-  }
-  if (n.is_table()) return "{...}";
-  return "<" + type_name(n) + ">";
-}
-
-// ---------------------------------------------------------------------------------------------
-// Section: one TOML table plus its full dotted name. Unknown keys are rejected on construction,
-// so a typo is reported before any value check; accessors return nullopt for absent keys.
-class Section {
- public:
-  Section(const toml::table& table, std::string path, std::vector<std::string_view> allowed,
-          const std::string& source)
-      : table_(&table), path_(std::move(path)), allowed_(std::move(allowed)), source_(&source) {
-    for (const auto& [key, value] : table) {
-      const std::string_view k = key.str();
-      if (std::find(allowed_.begin(), allowed_.end(), k) != allowed_.end()) continue;
-      std::string hint;
-      if (const auto best = closest(k, allowed_)) {
-        hint = fmt::format(" (did you mean '{}'?)", name(*best));
-      } else {
-        hint = fmt::format("; valid keys {}: {}", path_.empty() ? "at top level" : "in [" + path_ + "]",
-                           join(allowed_));
-      }
-      throw ConfigError(fmt::format("{}unknown key '{}'{}", at(key.source()), name(k), hint), name(k));
-    }
-  }
-
-  std::string name(std::string_view key) const {
-    return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
-  }
-  const std::string& path() const { return path_; }
-
-  const toml::node* get(std::string_view key) const {
-    if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end()) {
-      throw std::logic_error(fmt::format("config reader asked for undeclared key '{}'", name(key)));
-    }
-    return table_->get(key);
-  }
-  bool has(std::string_view key) const { return get(key) != nullptr; }
-
-  // "file:line:col: " where the region is known, "file: " otherwise.
-  std::string at(const toml::source_region& r) const {
-    if (r.begin.line == 0) return *source_ + ": ";
-    return fmt::format("{}:{}:{}: ", *source_, r.begin.line, r.begin.column);
-  }
-
-  // `key` may carry an index suffix ("box[1]") when `n` is an array element.
-  [[noreturn]] void bad(std::string_view key, const toml::node& n, std::string_view why) const {
-    throw ConfigError(fmt::format("{}{} = {}: {}", at(n.source()), name(key), show(n), why), name(key));
-  }
-  [[noreturn]] void bad(std::string_view key, std::string_view why) const { bad(key, *get(key), why); }
-  [[noreturn]] void wrong_type(std::string_view key, const toml::node& n, std::string_view expected) const {
-    bad(key, n, fmt::format("expected {}, got {}", expected, type_name(n)));
-  }
-  [[noreturn]] void missing(std::string_view key, std::string_view why = {}) const {
-    throw ConfigError(fmt::format("{}missing required key '{}'{}", at(table_->source()), name(key), why), name(key));
-  }
-
-  std::optional<double> real(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    if (const auto* f = n->as_floating_point()) return f->get();
-    if (const auto* i = n->as_integer()) return static_cast<double>(i->get());
-    wrong_type(key, *n, "a number");
-  }
-
-  std::optional<std::int64_t> integer(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    if (const auto* i = n->as_integer()) return i->get();
-    wrong_type(key, *n, "an integer");
-  }
-
-  std::optional<bool> boolean(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    if (const auto* b = n->as_boolean()) return b->get();
-    wrong_type(key, *n, "a boolean (true or false)");
-  }
-
-  std::optional<std::string> string(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    if (const auto* s = n->as_string()) return s->get();
-    wrong_type(key, *n, "a string");
-  }
-
-  // Exactly three numbers (their ranges are validate()'s).
-  std::optional<std::array<double, 3>> vec3(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    const toml::array* arr = n->as_array();
-    if (!arr) wrong_type(key, *n, "an array of 3 numbers");
-    if (arr->size() != 3) bad(key, *n, fmt::format("expected 3 numbers, got {}", arr->size()));
-    std::array<double, 3> out{};
-    for (std::size_t d = 0; d < 3; ++d) {
-      const toml::node& e = *arr->get(d);
-      if (const auto* f = e.as_floating_point()) {
-        out[d] = f->get();
-      } else if (const auto* i = e.as_integer()) {
-        out[d] = static_cast<double>(i->get());
-      } else {
-        wrong_type(fmt::format("{}[{}]", key, d), e, "a number");
-      }
-    }
-    return out;
-  }
-
-  // Exactly three booleans (one per axis).
-  std::optional<std::array<bool, 3>> bool3(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    const toml::array* arr = n->as_array();
-    if (!arr) wrong_type(key, *n, "an array of 3 booleans");
-    if (arr->size() != 3) bad(key, *n, fmt::format("expected 3 booleans, got {}", arr->size()));
-    std::array<bool, 3> out{};
-    for (std::size_t d = 0; d < 3; ++d) {
-      const toml::node& e = *arr->get(d);
-      const auto* b = e.as_boolean();
-      if (!b) wrong_type(fmt::format("{}[{}]", key, d), e, "a boolean (true or false)");
-      out[d] = b->get();
-    }
-    return out;
-  }
-
-  std::optional<std::vector<std::string>> strings(std::string_view key) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    const toml::array* arr = n->as_array();
-    if (!arr) wrong_type(key, *n, "an array of strings");
-    std::vector<std::string> out;
-    for (std::size_t k = 0; k < arr->size(); ++k) {
-      const toml::node& e = *arr->get(k);
-      const auto* s = e.as_string();
-      if (!s) wrong_type(fmt::format("{}[{}]", key, k), e, "a string");
-      out.push_back(s->get());
-    }
-    return out;
-  }
-
-  // A string that must be one of `options`, mapped to its enum value.
-  template <class E>
-  std::optional<E> choice(std::string_view key,
-                          std::initializer_list<std::pair<std::string_view, E>> options) const {
-    const std::optional<std::string> s = string(key);
-    if (!s) return std::nullopt;
-    std::vector<std::string_view> words;
-    for (const auto& [word, value] : options) {
-      if (word == *s) return value;
-      words.push_back(word);
-    }
-    std::string why = fmt::format("must be one of {}", join(words, "\""));
-    if (const auto best = closest(*s, words)) why += fmt::format(" (did you mean \"{}\"?)", *best);
-    bad(key, why);
-  }
-
-  // The sub-table `key`, or nothing when absent.
-  std::optional<Section> table(std::string_view key, std::vector<std::string_view> allowed) const {
-    const toml::node* n = get(key);
-    if (!n) return std::nullopt;
-    const toml::table* t = n->as_table();
-    if (!t) wrong_type(key, *n, fmt::format("a table ([{}])", name(key)));
-    return Section(*t, name(key), std::move(allowed), *source_);
-  }
-
-  // The sub-table `key`, or an empty one (all defaults) when absent.
-  Section table_or_empty(std::string_view key, std::vector<std::string_view> allowed) const {
-    static const toml::table kEmpty;
-    if (auto t = table(key, allowed)) return *std::move(t);
-    return Section(kEmpty, name(key), std::move(allowed), *source_);
-  }
-
-  // The array of tables `key` ([[key]] blocks), empty when absent.
-  std::vector<Section> tables(std::string_view key, const std::vector<std::string_view>& allowed) const {
-    std::vector<Section> out;
-    const toml::node* n = get(key);
-    if (!n) return out;
-    const toml::array* arr = n->as_array();
-    if (!arr || !arr->is_array_of_tables()) {
-      wrong_type(key, *n, fmt::format("an array of tables ([[{}]] blocks)", name(key)));
-    }
-    for (std::size_t k = 0; k < arr->size(); ++k) {
-      out.emplace_back(*arr->get(k)->as_table(), fmt::format("{}[{}]", name(key), k), allowed, *source_);
-    }
-    return out;
-  }
-
- private:
-  const toml::table* table_;
-  std::string path_;
-  std::vector<std::string_view> allowed_;
-  const std::string* source_;
-};
+using namespace schema;
 
 // ---------------------------------------------------------------------------------------------
 // The keys of a shape table ([[solid]] blocks add name, species and velocity).
 const std::vector<std::string_view> kShapeKeys{"shape",   "point",   "normal", "center",     "direction",
                                                "radius",  "lo",      "hi",     "lattice",    "spacing",
                                                "axis",    "file",    "voxel_size", "invert", "parts"};
-
-// Typed reads. Only what the spec's types cannot hold is refused here (a negative count, an int
-// overflow); every range is validate()'s.
-
-std::optional<std::int64_t> optional_int(const Section& s, std::string_view key, std::int64_t lo,
-                                         std::int64_t hi = std::numeric_limits<std::int64_t>::max()) {
-  const std::optional<std::int64_t> v = s.integer(key);
-  if (v && *v < lo) s.bad(key, fmt::format("must be an integer >= {}", lo));
-  if (v && *v > hi) s.bad(key, fmt::format("must be an integer <= {}", hi));
-  return v;
-}
-
-void read_uint(const Section& s, std::string_view key, std::uint64_t& out) {
-  if (const auto v = optional_int(s, key, 0)) out = static_cast<std::uint64_t>(*v);
-}
-
-void read_int(const Section& s, std::string_view key, int& out) {
-  if (const auto v = optional_int(s, key, INT_MIN, INT_MAX)) out = static_cast<int>(*v);
-}
-
-void read_real(const Section& s, std::string_view key, double& out) {
-  if (const auto v = s.real(key)) out = *v;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Schema, one function per table
@@ -349,25 +63,18 @@ PairParams read_pair_params(const Section& s) {
 }
 
 void read_system(const Section& top, SimulationSpec& spec) {
-  const Section sys = top.table_or_empty("system", {"box", "periodic", "kT", "seed"});
-  const auto box = sys.vec3("box");
-  if (!box) sys.missing("box", " (three positive box lengths)");
-  spec.box = *box;
-  if (const auto periodic = sys.bool3("periodic")) spec.periodic = *periodic;
-  read_real(sys, "kT", spec.kT);
-  read_uint(sys, "seed", spec.seed);
+  const Section sys = top.table_or_empty("system", system_keys().names());
+  read_keys(system_keys(), sys, spec);
 }
 
 void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
-  const Section init = top.table_or_empty("init", {"lammps_data", "velocities"});
+  const Section init = top.table_or_empty("init", init_keys().names());
   if (const auto file = init.string("lammps_data")) {
     if (file->empty()) init.bad("lammps_data", "must be a non-empty path");
     spec.data_file = fs::absolute(base_dir / fs::path(*file)).lexically_normal().string();
   }
-  spec.velocities = init.choice<VelocityInit>("velocities", {{"maxwell", VelocityInit::Maxwell},
-                                                             {"file", VelocityInit::File},
-                                                             {"zero", VelocityInit::Zero}})
-                        .value_or(spec.data_file.empty() ? VelocityInit::Maxwell : VelocityInit::File);
+  spec.velocities = spec.data_file.empty() ? VelocityInit::Maxwell : VelocityInit::File;
+  read_keys(init_keys(), init, spec);
 }
 
 ShapeSpec read_shape(const Section& s, const fs::path& base_dir);
@@ -516,48 +223,27 @@ void read_topology(const Section& top, SimulationSpec& spec) {
       s.bad("sequence", "not allowed with init.lammps_data (molecules come from the data file's Bonds section)");
     spec.molecules.push_back(std::move(m));
   }
-  const Section bonds = top.table_or_empty("bonds", {"exclude", "reach", "subcycles"});
-  spec.bond_reach_set = bonds.real("reach");
-  spec.bond_subcycles = static_cast<int>(optional_int(bonds, "subcycles", 1, 1000).value_or(1));
-  spec.bond_exclusion = bonds.choice<BondExclusion>("exclude", {{"none", BondExclusion::None},
-                                                                {"1-2", BondExclusion::OneTwo},
-                                                                {"1-3", BondExclusion::OneThree}})
-                            .value_or(BondExclusion::None);
+  read_keys(bonds_keys(), top.table_or_empty("bonds", bonds_keys().names()), spec);
 }
 
 void read_integrator(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("integrator", {"type", "dt", "lambda"});
-  spec.integrator = s.choice<IntegratorKind>("type", {{"groot-warren", IntegratorKind::GrootWarren},
-                                                      {"euler", IntegratorKind::Euler}})
-                        .value_or(IntegratorKind::GrootWarren);
-  read_real(s, "dt", spec.dt);
-  read_real(s, "lambda", spec.lambda);
+  const Section s = top.table_or_empty("integrator", integrator_keys().names());
+  read_keys(integrator_keys(), s, spec);
   if (spec.integrator == IntegratorKind::Euler && s.has("lambda")) {
     s.bad("lambda", "only used by integrator.type = \"groot-warren\", not \"euler\"");
   }
 }
 
 void read_run(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("run", {"steps", "noise", "max_velocity", "max_density", "threads"});
-  read_uint(s, "steps", spec.steps);
-  spec.noise = s.choice<NoiseDistribution>("noise", {{"uniform", NoiseDistribution::Uniform},
-                                                     {"gaussian", NoiseDistribution::Gaussian}})
-                   .value_or(NoiseDistribution::Uniform);
-  read_real(s, "max_velocity", spec.max_velocity);
-  read_real(s, "max_density", spec.max_density);
-  read_int(s, "threads", spec.threads);
+  read_keys(run_keys(), top.table_or_empty("run", run_keys().names()), spec);
 }
 
 void read_neighbor(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("neighbor", {"method", "skin"});
-  spec.neighbor = s.choice<NeighborMethod>(
-                       "method", {{"verlet", NeighborMethod::Verlet}, {"cells", NeighborMethod::Cells}})
-                      .value_or(NeighborMethod::Cells);
-  read_real(s, "skin", spec.skin);
+  read_keys(neighbor_keys(), top.table_or_empty("neighbor", neighbor_keys().names()), spec);
 }
 
 void read_parallel(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("parallel", {"grid"});
+  const Section s = top.table_or_empty("parallel", parallel_keys().names());
   if (const auto g = s.vec3("grid")) {
     for (std::size_t d = 0; d < 3; ++d) {
       const double v = (*g)[d];
@@ -569,42 +255,22 @@ void read_parallel(const Section& top, SimulationSpec& spec) {
 }
 
 void read_output(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("output", {"thermo_every", "checkpoint_every", "progress", "dump"});
-  read_uint(s, "thermo_every", spec.thermo_every);
-  read_uint(s, "checkpoint_every", spec.checkpoint_every);
-  spec.progress = s.boolean("progress").value_or(true);
-
-  const auto dump = s.table("dump", {"format", "every", "fields", "file"});
+  const Section s = top.table_or_empty("output", output_keys().names());
+  read_keys(output_keys(), s, spec);
+  const auto dump = s.table("dump", dump_keys().names());
   if (!dump) return;
   DumpSpec& d = spec.dump;
   d.enabled = true;
-  d.format = dump->choice<DumpFormat>("format", {{"lammps", DumpFormat::Lammps}, {"gsd", DumpFormat::Gsd}})
-                 .value_or(DumpFormat::Lammps);
-  read_uint(*dump, "every", d.every);
-  if (auto fields = dump->strings("fields")) d.fields = std::move(*fields);
-  if (auto file = dump->string("file")) {
-    // An empty name in the spec means "the default"; written in the file it is a mistake.
-    if (file->empty()) dump->bad("file", "must be a non-empty file name");
-    d.file = std::move(*file);
-  }
+  read_keys(dump_keys(), *dump, d);
+  // An empty name in the spec means "the default"; written in the file it is a mistake.
+  if (dump->has("file") && d.file.empty()) dump->bad("file", "must be a non-empty file name");
 }
 
 void read_poiseuille(const Section& top, SimulationSpec& spec) {
-  const auto s =
-      top.table("poiseuille", {"force", "flow_axis", "gradient_axis", "bins", "start", "every", "blocks"});
+  const auto s = top.table("poiseuille", poiseuille_keys().names());
   if (!s) return;
-  PoiseuilleSpec& p = spec.poiseuille;
-  p.enabled = true;
-  const auto force = s->real("force");
-  if (!force) s->missing("force", " (the body acceleration g of reverse Poiseuille flow)");
-  p.force = *force;
-  const std::initializer_list<std::pair<std::string_view, int>> axes{{"x", 0}, {"y", 1}, {"z", 2}};
-  p.flow_axis = s->choice<int>("flow_axis", axes).value_or(0);
-  p.gradient_axis = s->choice<int>("gradient_axis", axes).value_or(2);
-  read_int(*s, "bins", p.bins);
-  read_uint(*s, "start", p.start);
-  read_uint(*s, "every", p.every);
-  read_int(*s, "blocks", p.blocks);
+  spec.poiseuille.enabled = true;
+  read_keys(poiseuille_keys(), *s, spec.poiseuille);
 }
 
 // One shape table: a [[solid]] block or an element of its `parts`. Keys that the shape does not use
@@ -677,31 +343,8 @@ void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& s
     solid.shape = read_shape(s, base_dir);
     spec.solids.push_back(std::move(solid));
   }
-  const auto w = top.table("walls", {"reflection", "layer", "depth", "equilibrate", "drag_start", "drag_every", "drag_blocks",
-                                     "reference_length", "reference_area", "viscosity", "adaptive", "adaptive_bins",
-                                     "adaptive_range", "adaptive_gain", "adaptive_every", "adaptive_stop"});
-  if (!w) return;
-  WallsSpec& ws = spec.walls;
-  ws.reflection = w->choice<ReflectionKind>("reflection", {{"none", ReflectionKind::None},
-                                                           {"specular", ReflectionKind::Specular},
-                                                           {"bounce_back", ReflectionKind::BounceBack},
-                                                           {"maxwell", ReflectionKind::Maxwell}})
-                      .value_or(ReflectionKind::BounceBack);
-  read_real(*w, "layer", ws.layer);
-  read_real(*w, "depth", ws.depth);
-  read_uint(*w, "equilibrate", ws.equilibrate);
-  read_uint(*w, "drag_start", ws.drag_start);
-  read_uint(*w, "drag_every", ws.drag_every);
-  read_int(*w, "drag_blocks", ws.drag_blocks);
-  read_real(*w, "reference_length", ws.reference_length);
-  read_real(*w, "reference_area", ws.reference_area);
-  read_real(*w, "viscosity", ws.viscosity);
-  ws.adaptive = w->boolean("adaptive").value_or(false);
-  read_int(*w, "adaptive_bins", ws.adaptive_bins);
-  read_real(*w, "adaptive_range", ws.adaptive_range);
-  read_real(*w, "adaptive_gain", ws.adaptive_gain);
-  read_uint(*w, "adaptive_every", ws.adaptive_every);
-  read_uint(*w, "adaptive_stop", ws.adaptive_stop);
+  const auto w = top.table("walls", walls_keys().names());
+  if (w) read_keys(walls_keys(), *w, spec.walls);
 }
 
 void read_fields(const Section& f, SimulationSpec& spec) {
@@ -737,46 +380,25 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
   } else if (n) {
     for (const Section& f : s.tables("fields", kFieldKeys)) read_fields(f, spec);
   }
-  if (const auto rdf = s.table("rdf", {"bins", "rmax", "start", "every"})) {
+  if (const auto t = s.table("rdf", rdf_keys().names())) {
     spec.rdf.enabled = true;
-    read_int(*rdf, "bins", spec.rdf.bins);
-    read_real(*rdf, "rmax", spec.rdf.rmax);
-    read_uint(*rdf, "start", spec.rdf.start);
-    read_uint(*rdf, "every", spec.rdf.every);
+    read_keys(rdf_keys(), *t, spec.rdf);
   }
-  if (const auto msd = s.table("msd", {"start", "every"})) {
+  if (const auto t = s.table("msd", msd_keys().names())) {
     spec.msd.enabled = true;
-    read_uint(*msd, "start", spec.msd.start);
-    read_uint(*msd, "every", spec.msd.every);
+    read_keys(msd_keys(), *t, spec.msd);
   }
-  if (const auto st = s.table("surface_tension", {"axis", "start", "blocks"})) {
-    SurfaceTensionSpec& t = spec.surface_tension;
-    t.enabled = true;
-    t.axis = st->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
-    read_uint(*st, "start", t.start);
-    read_int(*st, "blocks", t.blocks);
+  if (const auto t = s.table("surface_tension", surface_tension_keys().names())) {
+    spec.surface_tension.enabled = true;
+    read_keys(surface_tension_keys(), *t, spec.surface_tension);
   }
-  if (const auto d = s.table("droplet", {"start", "every", "inner_radius", "outer_radius", "bin_width", "blocks"})) {
-    DropletSpec& o = spec.droplet;
-    o.enabled = true;
-    read_uint(*d, "start", o.start);
-    read_uint(*d, "every", o.every);
-    read_real(*d, "inner_radius", o.inner_radius);
-    read_real(*d, "outer_radius", o.outer_radius);
-    read_real(*d, "bin_width", o.bin_width);
-    read_int(*d, "blocks", o.blocks);
+  if (const auto t = s.table("droplet", droplet_keys().names())) {
+    spec.droplet.enabled = true;
+    read_keys(droplet_keys(), *t, spec.droplet);
   }
-  if (const auto d = s.table("stress_profile", {"axis", "bins", "start", "every", "blocks", "assignment"})) {
-    StressProfileSpec& o = spec.stress_profile;
-    o.enabled = true;
-    o.axis = d->choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
-    read_int(*d, "bins", o.bins);
-    read_uint(*d, "start", o.start);
-    read_uint(*d, "every", o.every);
-    read_int(*d, "blocks", o.blocks);
-    o.assignment = d->choice<StressAssignment>("assignment", {{"contour", StressAssignment::Contour},
-                                                              {"half", StressAssignment::Half}})
-                       .value_or(StressAssignment::Contour);
+  if (const auto t = s.table("stress_profile", stress_profile_keys().names())) {
+    spec.stress_profile.enabled = true;
+    read_keys(stress_profile_keys(), *t, spec.stress_profile);
   }
 }
 

@@ -15,24 +15,22 @@
 #include <string_view>
 #include <vector>
 
+#include "analysis/analysis_keys.hpp"
+#include "boundary/boundary_keys.hpp"
 #include "boundary/geometry.hpp"
+#include "engine/bonded_keys.hpp"
+#include "engine/run_keys.hpp"
+#include "integrate/integrator_keys.hpp"
 #include "io/frame.hpp"
 
 namespace mesodpd {
 
-SpecError::SpecError(std::string key, std::string value, std::string why)
-    : ConfigError(value.empty() ? fmt::format("{}: {}", key, why) : fmt::format("{} = {}: {}", key, value, why), key),
-      value_(std::move(value)),
-      why_(std::move(why)) {}
-
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---------------------------------------------------------------------------------------------
 // Values as text, and the checks every section uses
 
-std::string show(double v) { return fmt::format("{}", v); }
+using keys::show;
 std::string show(const std::string& v) { return fmt::format("\"{}\"", v); }
 std::string show(const std::vector<std::string>& v) {
   std::string out = "[";
@@ -47,32 +45,15 @@ std::string quoted_list(const std::vector<std::string_view>& items) {
   return out;
 }
 
-[[noreturn]] void fail(const std::string& key, std::string value, std::string why) {
-  throw SpecError(key, std::move(value), std::move(why));
-}
+using keys::check;
+using keys::fail;
+using keys::kCutoff;
+using keys::kFinite;
+using keys::kInf;
+using keys::kNonNegative;
+using keys::kPositive;
+using keys::Range;
 
-// An allowed interval for a real value; non-finite values are always outside.
-struct Range {
-  double lo = -kInf, hi = kInf;
-  bool lo_closed = true, hi_closed = true;
-
-  bool contains(double v) const {
-    return std::isfinite(v) && (lo_closed ? v >= lo : v > lo) && (hi_closed ? v <= hi : v < hi);
-  }
-  std::string text() const {
-    if (lo == -kInf && hi == kInf) return "must be a finite number";
-    if (hi == kInf) return fmt::format("must be {} {}", lo_closed ? ">=" : ">", lo);
-    return fmt::format("must be in {}{}, {}{}", lo_closed ? '[' : '(', lo, hi, hi_closed ? ']' : ')');
-  }
-};
-constexpr Range kPositive{0.0, kInf, false, true};
-constexpr Range kNonNegative{0.0, kInf, true, true};
-constexpr Range kFinite{};
-constexpr Range kCutoff{0.0, 10.0, false, true};  // rc, rd and s share (0, 10]
-
-void check(const std::string& key, double v, Range r) {
-  if (!r.contains(v)) fail(key, show(v), r.text());
-}
 void check(const std::string& key, const std::optional<double>& v, Range r) {
   if (v) check(key, *v, r);
 }
@@ -81,12 +62,11 @@ void check(const std::string& key, const std::array<double, 3>& v, Range r) {
 }
 template <class Int>
 void check_at_least(const std::string& key, Int v, long long lo) {
-  if (static_cast<long long>(v) < lo) fail(key, fmt::format("{}", v), fmt::format("must be an integer >= {}", lo));
+  keys::check_int(key, static_cast<long long>(v), keys::IntRange{lo});
 }
 template <class Int>
 void check_between(const std::string& key, Int v, long long lo, long long hi) {
-  check_at_least(key, v, lo);
-  if (static_cast<long long>(v) > hi) fail(key, fmt::format("{}", v), fmt::format("must be an integer <= {}", hi));
+  keys::check_int(key, static_cast<long long>(v), keys::IntRange{lo, hi});
 }
 
 std::string species_key(std::size_t k, std::string_view field) { return fmt::format("species[{}].{}", k, field); }
@@ -102,7 +82,7 @@ double largest_cutoff(const SimulationSpec& spec) {
 // Sections
 
 void validate_system(SimulationSpec& spec) {
-  check("system.box", spec.box, kPositive);
+  system_keys().check("system", spec);
   const auto& per = spec.periodic;
   // A bounded axis needs solids ([[solid]]) closing both of its faces; validate_walls checks that they
   // do. Without any solid nothing would keep the particles in.
@@ -117,7 +97,6 @@ void validate_system(SimulationSpec& spec) {
     fail("system.periodic", fmt::format("[{}, {}, {}]", per[0], per[1], per[2]),
          "a bounded axis (false) needs [[solid]] walls to close it; add walls or use [true, true, true]");
   }
-  check("system.kT", spec.kT, kPositive);
 }
 
 void validate_init(SimulationSpec& spec) {
@@ -328,28 +307,21 @@ void validate_pairs(SimulationSpec& spec) {
   }
 }
 
-void validate_integrator(SimulationSpec& spec) {
-  check("integrator.dt", spec.dt, Range{0.0, 0.5, false, true});
-  check("integrator.lambda", spec.lambda, Range{0.0, 1.0, true, true});
-}
+void validate_integrator(SimulationSpec& spec) { integrator_keys().check("integrator", spec); }
 
-void validate_run(SimulationSpec& spec) {
-  check("run.max_velocity", spec.max_velocity, kPositive);
-  check("run.max_density", spec.max_density, kPositive);
-  check_between("run.threads", spec.threads, 0, kMaxThreads);
-}
+void validate_run(SimulationSpec& spec) { run_keys().check("run", spec); }
 
-void validate_neighbor(SimulationSpec& spec) { check("neighbor.skin", spec.skin, Range{0.0, 2.0, true, true}); }
+void validate_neighbor(SimulationSpec& spec) { neighbor_keys().check("neighbor", spec); }
 
 void validate_parallel(SimulationSpec& spec) {
   for (std::size_t d = 0; d < 3; ++d) check_between(fmt::format("parallel.grid[{}]", d), spec.parallel_grid[d], 0, 65536);
 }
 
 void validate_output(SimulationSpec& spec) {
-  check_at_least("output.thermo_every", spec.thermo_every, 1);
+  output_keys().check("output", spec);
   DumpSpec& d = spec.dump;
   if (!d.enabled) return;
-  check_at_least("output.dump.every", d.every, 1);
+  dump_keys().check("output.dump", d);
   // The six standard selections and the extra fields the particle field list offers to frames.
   const std::vector<std::string>& names = trajectory_field_names();
   const std::vector<std::string_view> kFields(names.begin(), names.end());
@@ -368,33 +340,23 @@ void validate_output(SimulationSpec& spec) {
 void validate_poiseuille(SimulationSpec& spec) {
   const PoiseuilleSpec& p = spec.poiseuille;
   if (!p.enabled) return;
-  check("poiseuille.force", p.force, kFinite);
+  poiseuille_keys().check("poiseuille", p);
   if (p.force == 0.0) fail("poiseuille.force", show(p.force), "must be non-zero");
-  for (const auto& [key, axis] : {std::pair{"poiseuille.flow_axis", p.flow_axis}, {"poiseuille.gradient_axis", p.gradient_axis}})
-    if (axis < 0 || axis > 2) fail(key, show_axis(axis), "must be one of \"x\", \"y\", \"z\" (0, 1, 2)");
   if (p.flow_axis == p.gradient_axis)
     fail("poiseuille.gradient_axis", show_axis(p.gradient_axis),
          fmt::format("must differ from poiseuille.flow_axis ({})", show_axis(p.flow_axis)));
-  check_at_least("poiseuille.bins", p.bins, 4);
   if (p.bins % 2 != 0) fail("poiseuille.bins", fmt::format("{}", p.bins), "must be even (the two flow halves get equal bins)");
-  check_at_least("poiseuille.every", p.every, 1);
-  check_at_least("poiseuille.blocks", p.blocks, 2);
 }
 
 void validate_analysis(SimulationSpec& spec) {
   if (spec.rdf.enabled) {
-    check_at_least("analysis.rdf.bins", spec.rdf.bins, 1);
-    check("analysis.rdf.rmax", spec.rdf.rmax, kPositive);
+    rdf_keys().check("analysis.rdf", spec.rdf);
     const double half_box = 0.5 * std::min({spec.box[0], spec.box[1], spec.box[2]});
     if (!(spec.rdf.rmax < half_box))
       fail("analysis.rdf.rmax", show(spec.rdf.rmax), fmt::format("must be < half the smallest box length ({})", half_box));
-    check_at_least("analysis.rdf.every", spec.rdf.every, 1);
   }
-  if (spec.msd.enabled) check_at_least("analysis.msd.every", spec.msd.every, 1);
-  if (spec.surface_tension.enabled) {
-    check_between("analysis.surface_tension.axis", spec.surface_tension.axis, 0, 2);
-    check_between("analysis.surface_tension.blocks", spec.surface_tension.blocks, 2, 1000);
-  }
+  if (spec.msd.enabled) msd_keys().check("analysis.msd", spec.msd);
+  if (spec.surface_tension.enabled) surface_tension_keys().check("analysis.surface_tension", spec.surface_tension);
   if (spec.droplet.enabled) {
     const DropletSpec& d = spec.droplet;
     const auto& per = spec.periodic;
@@ -402,13 +364,9 @@ void validate_analysis(SimulationSpec& spec) {
     if (!(per[0] && per[1] && per[2]))
       fail("analysis.droplet", fmt::format("system.periodic = [{}, {}, {}]", per[0], per[1], per[2]),
            "a droplet in its vapour needs a box periodic along every axis");
-    check_at_least("analysis.droplet.every", d.every, 1);
-    check_between("analysis.droplet.blocks", d.blocks, 2, 1000);
     if (d.inner_radius == 0) fail("analysis.droplet.inner_radius", "missing", "is required: the radius of the liquid core where the inside pressure is measured");
     if (d.outer_radius == 0) fail("analysis.droplet.outer_radius", "missing", "is required: the radius beyond which the vapour pressure is measured");
-    check("analysis.droplet.inner_radius", d.inner_radius, kPositive);
-    check("analysis.droplet.outer_radius", d.outer_radius, kPositive);
-    check("analysis.droplet.bin_width", d.bin_width, kPositive);
+    droplet_keys().check("analysis.droplet", d);
     const double half_box = 0.5 * std::min({spec.box[0], spec.box[1], spec.box[2]});
     if (!(d.outer_radius > d.inner_radius))
       fail("analysis.droplet.outer_radius", show(d.outer_radius),
@@ -421,10 +379,7 @@ void validate_analysis(SimulationSpec& spec) {
   }
   if (spec.stress_profile.enabled) {
     const StressProfileSpec& t = spec.stress_profile;
-    check_between("analysis.stress_profile.axis", t.axis, 0, 2);
-    check_between("analysis.stress_profile.bins", t.bins, 1, 100000);
-    check_at_least("analysis.stress_profile.every", t.every, 1);
-    check_between("analysis.stress_profile.blocks", t.blocks, 2, 1000);
+    stress_profile_keys().check("analysis.stress_profile", t);
     // The profile's bins and the contour assignment wrap round the box along the axis.
     if (!spec.periodic[static_cast<std::size_t>(t.axis)])
       fail("analysis.stress_profile.axis", std::string(1, "xyz"[t.axis]),
@@ -586,14 +541,12 @@ void build_molecule(const SimulationSpec& spec, std::size_t k, MoleculeSpec& m) 
 }
 
 void validate_topology(SimulationSpec& spec) {
-  check("bonds.reach", spec.bond_reach_set, kCutoff);
+  bonds_keys().check("bonds", spec);
   if (spec.bond_reach_set && *spec.bond_reach_set < largest_cutoff(spec))
     fail("bonds.reach", show(*spec.bond_reach_set),
          fmt::format("must be at least the largest pair cutoff {}", largest_cutoff(spec)));
   spec.bond_reach = spec.bond_reach_set.value_or(largest_cutoff(spec));
   const double reach = spec.bond_reach;
-  if (spec.bond_subcycles < 1 || spec.bond_subcycles > 1000)
-    fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles), "must be an integer in [1, 1000]");
   if (spec.bond_subcycles > 1) {
     if (spec.integrator != IntegratorKind::GrootWarren)
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
@@ -841,18 +794,8 @@ void validate_regions(SimulationSpec& spec) {
 
 void validate_walls(SimulationSpec& spec) {
   WallsSpec& w = spec.walls;
-  check("walls.layer", w.layer, Range{0.0, 1.0, true, true});
-  check("walls.depth", w.depth, kNonNegative);
-  check_at_least("walls.drag_every", w.drag_every, 1);
-  check_at_least("walls.drag_blocks", w.drag_blocks, 2);
-  check("walls.reference_length", w.reference_length, kNonNegative);
-  check("walls.reference_area", w.reference_area, kNonNegative);
-  check("walls.viscosity", w.viscosity, kNonNegative);
+  walls_keys().check("walls", w);
   if (w.depth == 0) w.depth = largest_cutoff(spec);
-  check_between("walls.adaptive_bins", w.adaptive_bins, 1, 1000);
-  check("walls.adaptive_range", w.adaptive_range, kNonNegative);
-  check("walls.adaptive_gain", w.adaptive_gain, Range{0.0, 2.0, false, true});
-  check_at_least("walls.adaptive_every", w.adaptive_every, 1);
   if (w.adaptive_range == 0) w.adaptive_range = largest_cutoff(spec);
   if (w.adaptive && w.adaptive_range <= w.layer)
     fail("walls.adaptive_range", show(w.adaptive_range),
