@@ -18,6 +18,7 @@
 #include "mesodpd/flow_numbers.hpp"
 #include "mesodpd/units.hpp"
 #include "mesodpd/validate.hpp"
+#include "schema/declared_tables.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/openmp_wait.hpp"
 
@@ -148,6 +149,9 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a configuration file and exit");
   check->add_option("config", check_config, "TOML configuration file")->required();
 
+  // Every declared key with its type, default, range and meaning: the key tables of docs/config.md.
+  auto* keys = app.add_subcommand("keys", "print the declared configuration keys as the tables of docs/config.md");
+
   // The units mapper (include/mesodpd/units.hpp): physical liquid -> DPD parameters and SI units.
   mesodpd::units::PhysicalSystem phys;
   bool water = false;
@@ -199,6 +203,10 @@ int main(int argc, char** argv) {
       // What a user should know before the run: Reynolds, Schmidt and Mach numbers, dt for the thermostat.
       fmt::print("{}", mesodpd::format_flow_numbers(mesodpd::flow_numbers(spec)));
       for (const std::string& w : mesodpd::spec_warnings(spec)) fmt::print(stderr, "warning: {}\n", w);
+      return 0;
+    }
+    if (*keys) {
+      fmt::print("{}", mesodpd::declared_tables_markdown());
       return 0;
     }
     if (*units) {

@@ -62,7 +62,8 @@ std::string quoted_words(const std::vector<std::string_view>& words, std::string
 std::string markdown(const std::vector<KeyDoc>& rows) {
   std::string out = "| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n";
   for (const KeyDoc& r : rows)
-    out += fmt::format("| `{}` | {} | {} | {} | {} |\n", r.name, r.type, r.default_text, r.allowed, r.meaning);
+    out += fmt::format("| `{}` | {} | {} | {}| {} |\n", r.name, r.type, r.default_text,
+                       r.allowed.empty() ? "" : r.allowed + " ", r.meaning);
   return out;
 }
 

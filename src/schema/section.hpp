@@ -337,7 +337,6 @@ template <class T>
 void read_keys(const keys::KeyTable<T>& table, const Section& s, T& out) {
   for (const keys::Key<T>& k : table.keys()) {
     const std::string_view key = k.name;
-    if (k.required && !std::holds_alternative<keys::Custom>(k.binding) && !s.has(key)) s.missing(key, k.missing_hint);
     std::visit(
         [&](const auto& b) {
           using B = std::decay_t<decltype(b)>;
@@ -365,6 +364,9 @@ void read_keys(const keys::KeyTable<T>& table, const Section& s, T& out) {
         },
         k.binding);
   }
+  // Written keys are read (and their types checked) before an absent required one is reported.
+  for (const keys::Key<T>& k : table.keys())
+    if (k.required && !std::holds_alternative<keys::Custom>(k.binding) && !s.has(k.name)) s.missing(k.name, k.missing_hint);
 }
 
 }  // namespace mesodpd::schema
