@@ -75,7 +75,7 @@ mesodpd::SimulationSpec mdpd_slab(std::uint64_t n, bool verlet, double skin, con
   s.velocities = mesodpd::VelocityInit::Maxwell;
   s.pair_style = mesodpd::PairStyle::Mdpd;
   s.pair_section.params.a = -40.0;
-  s.pair_section.params.b = 25.0;
+  s.pair_section.params.own["b"] = 25.0;
   s.pair_section.params.rd = 0.75;
   s.dt = 0.01;
   s.skin = skin;

@@ -4,8 +4,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesodpd/config_error.hpp"
@@ -17,11 +20,11 @@ enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };
 enum class NeighborMethod { Verlet, Cells };
 enum class DumpFormat { Lammps, Gsd };
-// The pair force law of a run (engine/pair_laws.hpp holds the list): standard DPD; the soft cosine
-// potential (physics/soft_pair.hpp), which uses a and rc of each PairSpec and no thermostat; many-body
-// DPD (physics/mdpd_pair.hpp: a = A_ij, b = B_ij, rd = the many-body range r_d, dissipation over rc);
-// Liu's spline potentials (physics/spline_pair.hpp: a = a_ij, repulsion, rc1, attraction, rc2).
-enum class PairStyle { Dpd, Soft, Mdpd, Spline };
+// The pair force law of a run: its index in the law list (PairLawTables, engine/pair_laws.hpp), whose
+// laws declare their style names and keys (physics/law_keys.hpp). The enumerators name the built-in laws:
+// standard DPD; the soft cosine potential (physics/soft_pair.hpp); many-body DPD (physics/mdpd_pair.hpp);
+// Liu's spline potentials (physics/spline_pair.hpp). A law added to the list takes the next index.
+enum class PairStyle : int { Dpd, Soft, Mdpd, Spline };
 // The local-density kernel of many-body DPD (physics/density_kernel.hpp): Warren's or Lucy's.
 enum class DensityKernelChoice { Warren, Lucy };
 enum class VelocityInit { Maxwell, File, Zero };
@@ -61,8 +64,10 @@ struct SpeciesSpec {
   std::optional<ShapeSpec> region;
 };
 
-// DPD pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
-// next level (override -> [pair] -> built-in default) when validate() resolves `SimulationSpec::pairs`.
+// Pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the
+// next level (override -> [pair] -> the law's default) when validate() resolves `SimulationSpec::pairs`.
+// The shared DPD keys have members; the keys a law declares for itself (physics/law_keys.hpp: b of
+// "mdpd", repulsion, rc1, attraction, rc2 of "spline") are in `own`, by key name.
 struct PairParams {
   std::optional<double> a;      // conservative repulsion a_ij (default 25, or geometric mixing)
   std::optional<double> gamma;  // dissipative strength (default 4.5)
@@ -70,11 +75,7 @@ struct PairParams {
   std::optional<double> rc;     // conservative cutoff (default 1)
   std::optional<double> rd;     // dissipative/random cutoff (default: this pair's rc)
   std::optional<double> s;      // weight exponent (default 2)
-  std::optional<double> b;      // many-body repulsion B_ij (pair.style = "mdpd")
-  std::optional<double> repulsion;   // spline: coefficient A of W(r, rc1) (pair.style = "spline")
-  std::optional<double> rc1;         // spline: range of the repulsive spline
-  std::optional<double> attraction;  // spline: coefficient B of W(r, rc2)
-  std::optional<double> rc2;         // spline: range of the attractive spline
+  std::map<std::string, double, std::less<>> own;  // a law's own keys, as written
 };
 
 enum class Mixing { Explicit, Geometric };
@@ -94,24 +95,17 @@ struct PairSection {
 
 // Fully resolved interaction of one unordered species pair (i <= j), filled by validate().
 // With pair.style = "mdpd", rd is the many-body range r_d (seed 000 Eq. 17) and the dissipative and
-// random forces act over rc; b is B_ij. With "spline", repulsion/rc1/attraction/rc2 are A, r_c1, B, r_c2
-// of seed 000 Eq. 19 (per pair: a pair may override them).
+// random forces act over rc. `own` holds every own key of the style's law (physics/law_keys.hpp), e.g.
+// b (B_ij) of "mdpd" or repulsion/rc1/attraction/rc2 (A, r_c1, B, r_c2 of seed 000 Eq. 19) of "spline".
 struct PairSpec {
   int i = 0, j = 0;
   double a = 25.0, gamma = 4.5, rc = 1.0, rd = 1.0, s = 2.0;
-  double b = 0.0;
-  double repulsion = 0.0, rc1 = 1.0, attraction = 0.0, rc2 = 1.0;
+  std::map<std::string, double, std::less<>> own;
 
-  // The distance beyond which this pair does not interact under `style`.
-  double range(PairStyle style) const {
-    const auto mx = [](double x, double y) { return x > y ? x : y; };
-    switch (style) {
-      case PairStyle::Soft: return rc;
-      case PairStyle::Mdpd: return rc;  // r_d <= r_c (validated); dissipation over rc
-      case PairStyle::Spline: return mx(mx(rc1, rc2), rd);
-      case PairStyle::Dpd: break;
-    }
-    return mx(rc, rd);
+  // The value of one of the law's own keys (0 when the law has no such key).
+  double value(std::string_view key) const {
+    const auto it = own.find(key);
+    return it == own.end() ? 0.0 : it->second;
   }
 };
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace mesodpd {
 
@@ -23,25 +24,78 @@ PairTable<Params> fill_table(const SimulationSpec& spec, Make&& make, Range&& ra
   return t;
 }
 
-// The DPD parameters of a pair with conservative amplitude a, dissipative range rd and interaction range
-// `range`.
-DpdPairParams dpd_params(const SimulationSpec& spec, const PairSpec& ps, double a, double rd, double range) {
-  DpdPairParams q;
-  q.a = a;
-  q.gamma = ps.gamma;
-  q.sigma = std::sqrt(2.0 * ps.gamma * spec.kT);  // seed 000 Eq. 7
-  q.rc = ps.rc;
-  q.rd = rd;
-  q.s = ps.s;
-  q.rcut2 = range * range;
-  return q;
+// The info of law I of the list, and of all from I on.
+template <std::size_t I>
+void add_infos(std::vector<PairLawInfo>& out) {
+  if constexpr (I < kPairLawCount) {
+    using Law = typename std::variant_alternative_t<I, PairLawTables>::LawType;
+    PairLawInfo info;
+    info.style = Law::kStyle;
+    info.doc = Law::kDoc;
+    info.shared.assign(Law::kShared.begin(), Law::kShared.end());
+    for (std::size_t k = 0; k < Law::kRequired.size(); ++k) {
+      if constexpr (requires { Law::kRequiredHints; })
+        info.required.emplace_back(Law::kRequired[k], Law::kRequiredHints[k]);
+      else
+        info.required.emplace_back(Law::kRequired[k], std::string_view{});
+    }
+    info.own.assign(Law::kOwn.begin(), Law::kOwn.end());
+    static_assert(Law::kOwn.size() <= PairValues::kMaxOwn, "more own keys than PairValues holds");
+    info.min_a = Law::kMinA;
+    info.noise = Law::kNoise;
+    info.density = Law::kDensity;
+    info.range = &Law::range;
+    info.problem = &Law::problem;
+    out.push_back(std::move(info));
+    add_infos<I + 1>(out);
+  }
+}
+
+// The table of law I for a spec whose style is I (or of any other index, for no law).
+template <std::size_t I>
+PairLawTables make_law_tables(const SimulationSpec& spec) {
+  if constexpr (I < kPairLawCount) {
+    if (static_cast<std::size_t>(spec.pair_style) == I) {
+      using Law = typename std::variant_alternative_t<I, PairLawTables>::LawType;
+      return LawTable<Law>{fill_table<typename Law::template Params<double>>(
+          spec, [&](const PairSpec& ps) { return Law::make(pair_values(ps, spec.pair_style, spec.kT)); },
+          [&](const PairSpec& ps) { return pair_range(ps, spec.pair_style); })};
+    }
+    return make_law_tables<I + 1>(spec);
+  } else {
+    throw std::invalid_argument("pair.style: no pair law with this index");
+  }
 }
 }  // namespace
 
+const std::vector<PairLawInfo>& pair_law_infos() {
+  static const std::vector<PairLawInfo> infos = [] {
+    std::vector<PairLawInfo> out;
+    add_infos<0>(out);
+    return out;
+  }();
+  return infos;
+}
+
+PairValues pair_values(const PairSpec& ps, PairStyle style, double kT) {
+  PairValues v;
+  v.a = ps.a;
+  v.gamma = ps.gamma;
+  v.sigma = std::sqrt(2.0 * ps.gamma * kT);  // seed 000 Eq. 7
+  v.rc = ps.rc;
+  v.rd = ps.rd;
+  v.s = ps.s;
+  const PairLawInfo& law = pair_law(style);
+  for (std::size_t k = 0; k < law.own.size(); ++k) v.own[k] = ps.value(law.own[k].name);
+  return v;
+}
+
+double pair_range(const PairSpec& ps, PairStyle style) { return pair_law(style).range(pair_values(ps, style, 1.0)); }
+
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec) {
   return fill_table<DpdPairParams>(
-      spec, [&](const PairSpec& ps) { return dpd_params(spec, ps, ps.a, ps.rd, ps.range(PairStyle::Dpd)); },
-      [](const PairSpec& ps) { return ps.range(PairStyle::Dpd); });
+      spec, [&](const PairSpec& ps) { return DpdLaw::make(pair_values(ps, PairStyle::Dpd, spec.kT)); },
+      [](const PairSpec& ps) { return pair_range(ps, PairStyle::Dpd); });
 }
 
 std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec) {
@@ -56,29 +110,6 @@ std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec)
   return ds;
 }
 
-PairLawTables make_pair_laws(const SimulationSpec& spec) {
-  switch (spec.pair_style) {
-    case PairStyle::Dpd:
-      return LawTable<DpdLaw>{make_pair_table(spec)};
-    case PairStyle::Soft:
-      return LawTable<SoftLaw>{fill_table<SoftPairParamsT<double>>(spec, [](const PairSpec& ps) {
-        return SoftPairParamsT<double>{ps.a, ps.rc, ps.rc * ps.rc};
-      }, [](const PairSpec& ps) { return ps.rc; })};
-    case PairStyle::Mdpd:
-      // seed 000 Eq. 17; the dissipative and random forces act over r_c (as LAMMPS's pair_style mdpd).
-      return LawTable<MdpdLaw>{fill_table<MdpdPairParamsT<double>>(spec, [&](const PairSpec& ps) {
-        const double range = ps.range(PairStyle::Mdpd);
-        return MdpdPairParamsT<double>{ps.a, ps.b, ps.rd, dpd_params(spec, ps, 0.0, ps.rc, range), range * range};
-      }, [](const PairSpec& ps) { return ps.range(PairStyle::Mdpd); })};
-    case PairStyle::Spline:
-      // seed 000 Eqs. 19-23; the dissipative and random forces act over rd.
-      return LawTable<SplineLaw>{fill_table<SplinePairParamsT<double>>(spec, [&](const PairSpec& ps) {
-        const double range = ps.range(PairStyle::Spline);
-        return SplinePairParamsT<double>{ps.a,  ps.repulsion, ps.rc1, ps.attraction, ps.rc2,
-                                         dpd_params(spec, ps, 0.0, ps.rd, range), range * range};
-      }, [](const PairSpec& ps) { return ps.range(PairStyle::Spline); })};
-  }
-  return LawTable<DpdLaw>{make_pair_table(spec)};
-}
+PairLawTables make_pair_laws(const SimulationSpec& spec) { return make_law_tables<0>(spec); }
 
 }  // namespace mesodpd

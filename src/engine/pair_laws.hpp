@@ -1,15 +1,17 @@
 // The compile-time list of pair force laws the engine can run, and their parameter tables built from a
-// spec. Adding a law: its header in src/physics/, one entry in PairLawTables, one case in
-// make_pair_laws (docs/architecture.md, "Add a pair force law").
+// spec. Adding a law: its header in src/physics/ (the force and what it declares about its keys,
+// physics/law_keys.hpp) and one entry in PairLawTables (docs/architecture.md, "Add a pair force law").
 #pragma once
 #include <cstring>
 #include <optional>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
 
 #include "mesodpd/spec.hpp"
 #include "physics/density_kernel.hpp"
+#include "physics/law_keys.hpp"
 #include "physics/dpd_pair.hpp"
 #include "physics/mdpd_pair.hpp"
 #include "physics/pair_table.hpp"
@@ -54,8 +56,31 @@ struct LawTable {
   }
 };
 
-// Every law the shared pair loop is instantiated for (per SIMD target), in the order of PairStyle.
+// Every law the shared pair loop is instantiated for (per SIMD target), in the order of PairStyle: the
+// one list of pair laws. The schema takes the style names and keys from it.
 using PairLawTables = std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>>;
+inline constexpr std::size_t kPairLawCount = std::variant_size_v<PairLawTables>;
+
+// What one law of the list declares (physics/law_keys.hpp), without its type: for the schema.
+struct PairLawInfo {
+  std::string_view style, doc;
+  std::vector<std::string_view> shared;                   // the shared keys it reads
+  std::vector<std::pair<std::string_view, std::string_view>> required;  // shared keys it requires, with hints
+  std::vector<LawKey> own;
+  double min_a = 0;                                       // the lowest a allowed
+  bool noise = true, density = false;                     // kNoise, kDensity
+  double (*range)(const PairValues&) = nullptr;
+  LawProblem (*problem)(const PairValues&) = nullptr;
+};
+// The laws of PairLawTables in order (index = PairStyle).
+const std::vector<PairLawInfo>& pair_law_infos();
+inline const PairLawInfo& pair_law(PairStyle style) { return pair_law_infos().at(static_cast<std::size_t>(style)); }
+
+// A resolved species pair as the law of `style` reads it (its own keys in the order it declares them;
+// sigma = sqrt(2 gamma kT), seed 000 Eq. 7).
+PairValues pair_values(const PairSpec& ps, PairStyle style, double kT);
+// The distance beyond which the pair does not interact under `style`.
+double pair_range(const PairSpec& ps, PairStyle style);
 
 // A density kernel and its per-species-pair range, for ForceCompute::compute_density.
 struct DensitySettings {

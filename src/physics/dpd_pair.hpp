@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "core/vec3.hpp"
+#include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
 
 namespace mesodpd {
@@ -115,6 +116,20 @@ struct DpdLaw {
   static constexpr bool kVelocity = true;  // dissipative force reads r_hat . v_ij
   static constexpr bool kNoise = true;     // random force reads xi_ij
   static constexpr bool kDensity = false;
+
+  // The schema's view (physics/law_keys.hpp): pair.style = "dpd" reads the shared keys only.
+  static constexpr std::string_view kStyle = "dpd";
+  static constexpr std::string_view kDoc = "standard DPD (conservative, dissipative, random; seed 000 Eqs. 2-8).";
+  static constexpr std::array<std::string_view, 6> kShared = kSharedPairKeys;
+  static constexpr std::array<std::string_view, 0> kRequired{};
+  static constexpr std::array<LawKey, 0> kOwn{};
+  static constexpr double kMinA = 0;  // a repels
+  static double range(const PairValues& v) { return v.rc > v.rd ? v.rc : v.rd; }
+  static Params<double> make(const PairValues& v) {
+    const double r = range(v);
+    return {v.a, v.gamma, v.sigma, v.rc, v.rd, v.s, r * r};
+  }
+  static LawProblem problem(const PairValues&) { return {}; }
 
   template <WeightKind W>
   struct Eval {

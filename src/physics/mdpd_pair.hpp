@@ -9,6 +9,7 @@
 
 #include "core/hd.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
 
 namespace mesodpd {
@@ -39,6 +40,42 @@ struct MdpdLaw {
   static constexpr bool kVelocity = true;
   static constexpr bool kNoise = true;
   static constexpr bool kDensity = true;
+
+  // The schema's view (physics/law_keys.hpp): A_ij (a, may be negative), B_ij (b) and the many-body range
+  // r_d (rd) have no neutral value and are required; the dissipative and random forces act over rc (as
+  // LAMMPS's pair_style mdpd).
+  static constexpr std::string_view kStyle = "mdpd";
+  static constexpr std::string_view kDoc =
+      "Warren's many-body DPD, F^C = [A_ij (1 - r/r_c) + B_ij (rho_i + rho_j)(1 - r/r_d)] r-hat (seed 000 Eq. 17) "
+      "with A_ij = `a` (may be negative), B_ij = `b`, r_d = `rd` (here the many-body range, <= `rc`), local densities "
+      "from `kernel`; the dissipative and random forces act over `rc` (as LAMMPS's `pair_style mdpd`). `a`, `b` and "
+      "`rd` are required (no default).";
+  static constexpr std::array<std::string_view, 6> kShared = kSharedPairKeys;
+  static constexpr std::array<std::string_view, 2> kRequired{"a", "rd"};
+  static constexpr std::array<std::string_view, 2> kRequiredHints{"A_ij (Warren's liquid: a = -40)",
+                                                                  "the many-body range r_d (Warren: rd = 0.75)"};
+  static constexpr std::array<LawKey, 1> kOwn{{
+      {"b", 0.0, std::numeric_limits<double>::infinity(), true, true, true, 0.0, "B_ij (Warren's liquid: b = 25)",
+       "the many-body repulsion B_ij. b = 0 with a < 0 is refused (the fluid collapses). B_ij that differ between "
+       "pairs are allowed with a warning: such a force has no potential (Warren 2003)."},
+  }};
+  static constexpr double kMinA = -std::numeric_limits<double>::infinity();
+  static double range(const PairValues& v) { return v.rc; }  // r_d <= r_c (checked below)
+  static Params<double> make(const PairValues& v) {
+    const double r = range(v);
+    // seed 000 Eq. 17; the dissipative and random forces act over r_c.
+    return {v.a, v.own[0], v.rd, DpdPairParamsT<double>{0.0, v.gamma, v.sigma, v.rc, v.rc, v.s, r * r}, r * r};
+  }
+  static LawProblem problem(const PairValues& v) {
+    if (v.rd > v.rc)
+      return {"rd", "the many-body range r_d must not exceed rc = {value} for {pair} (seed 000 Eq. 17)", v.rc};
+    if (v.a < 0 && v.own[0] == 0)
+      return {"b",
+              "with a = {value} < 0 and no density-dependent repulsion the fluid of {pair} collapses; set b > 0 "
+              "(Warren's liquid: a = -40, b = 25)",
+              v.a};
+    return {};
+  }
 
   template <WeightKind W>
   struct Eval {

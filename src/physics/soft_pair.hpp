@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/hd.hpp"
+#include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
 
 namespace mesodpd {
@@ -28,6 +29,20 @@ struct SoftLaw {
   static constexpr bool kVelocity = false;
   static constexpr bool kNoise = false;
   static constexpr bool kDensity = false;
+
+  // The schema's view (physics/law_keys.hpp): a and rc only; a thermostat key is refused.
+  static constexpr std::string_view kStyle = "soft";
+  static constexpr std::string_view kDoc =
+      "the soft cosine potential U = a [1 + cos(pi r / r_c)] of LAMMPS's `pair_style soft`, conservative only (no "
+      "thermostat: an NVE soft fluid, or a relaxation step that pushes overlapping particles apart); it reads `a` and "
+      "`rc` of each pair and refuses `gamma`, `sigma`, `rd` and `s`.";
+  static constexpr std::array<std::string_view, 2> kShared{"a", "rc"};
+  static constexpr std::array<std::string_view, 0> kRequired{};
+  static constexpr std::array<LawKey, 0> kOwn{};
+  static constexpr double kMinA = 0;
+  static double range(const PairValues& v) { return v.rc; }
+  static Params<double> make(const PairValues& v) { return {v.a, v.rc, v.rc * v.rc}; }
+  static LawProblem problem(const PairValues&) { return {}; }
 
   struct Eval {
     // F = -dU/dr = (pi A / r_c) sin(pi r / r_c); zero at r = 0 (no direction) and beyond r_c.

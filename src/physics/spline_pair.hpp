@@ -6,6 +6,7 @@
 
 #include "core/hd.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
 
 namespace mesodpd {
@@ -46,6 +47,47 @@ struct SplineLaw {
   static constexpr bool kVelocity = true;
   static constexpr bool kNoise = true;
   static constexpr bool kDensity = false;
+
+  // The schema's view (physics/law_keys.hpp): A, r_c1, B, r_c2 of seed 000 Eq. 19, all required; the
+  // dissipative and random forces act over rd.
+  static constexpr std::string_view kStyle = "spline";
+  static constexpr std::string_view kDoc =
+      "Liu's potentials U = a_ij [A W(r, r_c1) - B W(r, r_c2)] with the cubic spline W of seed 000 Eq. 18, F^C = "
+      "-dU/dr; `a`, `repulsion` (A), `rc1`, `attraction` (B), `rc2` are required; the dissipative and random forces "
+      "act over `rd` (default `rc`). See docs/physics.md.";
+  static constexpr std::array<std::string_view, 6> kShared = kSharedPairKeys;
+  static constexpr std::array<std::string_view, 0> kRequired{};
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr std::array<LawKey, 4> kOwn{{
+      {"repulsion", 0.0, kInf, true, true, true, 0.0, "A of seed 000 Eq. 19 (Liu: repulsion = 2.0)",
+       "A of seed 000 Eq. 19, the coefficient of the repulsive spline W(r, r_c1)."},
+      {"rc1", 0.0, 10.0, false, true, true, 0.0, "r_c1 of seed 000 Eq. 19 (Liu: rc1 = 0.8)",
+       "the range r_c1 of the repulsive spline."},
+      {"attraction", 0.0, kInf, true, true, true, 0.0, "B of seed 000 Eq. 19 (Liu: attraction = 0..1.1)",
+       "B of seed 000 Eq. 19, the coefficient of the attractive spline W(r, r_c2); must be smaller than `repulsion` "
+       "(U(0) = a (A - B) > 0, else the particles collapse)."},
+      {"rc2", 0.0, 10.0, false, true, true, 0.0, "r_c2 of seed 000 Eq. 19 (Liu: rc2 = 1.0)",
+       "the range r_c2 of the attractive spline."},
+  }};
+  static constexpr double kMinA = 0;
+  static double range(const PairValues& v) {
+    const double r12 = v.own[1] > v.own[3] ? v.own[1] : v.own[3];
+    return r12 > v.rd ? r12 : v.rd;
+  }
+  static Params<double> make(const PairValues& v) {
+    const double r = range(v);
+    // seed 000 Eqs. 19-23; the dissipative and random forces act over rd.
+    return {v.a, v.own[0], v.own[1], v.own[2], v.own[3],
+            DpdPairParamsT<double>{0.0, v.gamma, v.sigma, v.rc, v.rd, v.s, r * r}, r * r};
+  }
+  static LawProblem problem(const PairValues& v) {
+    if (v.own[2] > 0 && v.own[0] <= v.own[2])
+      return {"attraction",
+              "must be smaller than repulsion = {value} for {pair}: U(0) = a (A - B) must be positive, or the "
+              "particles collapse onto each other",
+              v.own[0]};
+    return {};
+  }
 
   template <WeightKind W>
   struct Eval {

@@ -27,6 +27,7 @@
 #include "analysis/analysis_keys.hpp"
 #include "boundary/boundary_keys.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
 #include "schema/section.hpp"
@@ -46,6 +47,16 @@ const std::vector<std::string_view> kShapeKeys{"shape",   "point",   "normal", "
 // ---------------------------------------------------------------------------------------------
 // Schema, one function per table
 
+// The keys of a [pair] or [[pair.override]] table: the shared DPD keys and every law's own keys (the
+// style's law refuses the keys it does not read, in validate()).
+std::vector<std::string_view> pair_param_names() {
+  std::vector<std::string_view> names(kSharedPairKeys.begin(), kSharedPairKeys.end());
+  for (const PairLawInfo& law : pair_law_infos())
+    for (const LawKey& k : law.own)
+      if (std::find(names.begin(), names.end(), k.name) == names.end()) names.push_back(k.name);
+  return names;
+}
+
 PairParams read_pair_params(const Section& s) {
   PairParams k;
   k.a = s.real("a");
@@ -54,11 +65,9 @@ PairParams read_pair_params(const Section& s) {
   k.rc = s.real("rc");
   k.rd = s.real("rd");
   k.s = s.real("s");
-  k.b = s.real("b");
-  k.repulsion = s.real("repulsion");
-  k.rc1 = s.real("rc1");
-  k.attraction = s.real("attraction");
-  k.rc2 = s.real("rc2");
+  for (const std::string_view name : pair_param_names())
+    if (std::find(kSharedPairKeys.begin(), kSharedPairKeys.end(), name) == kSharedPairKeys.end())
+      if (const auto v = s.real(name)) k.own.emplace(std::string(name), *v);
   return k;
 }
 
@@ -122,21 +131,22 @@ void read_species(const Section& top, const fs::path& base_dir, SimulationSpec& 
 }
 
 void read_pair(const Section& top, SimulationSpec& spec) {
-  const Section pair = top.table_or_empty("pair", {"style", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
-                                                   "rc1", "attraction", "rc2", "kernel", "mixing", "override"});
-  spec.pair_style = pair.choice<PairStyle>("style", {{"dpd", PairStyle::Dpd},
-                                                     {"soft", PairStyle::Soft},
-                                                     {"mdpd", PairStyle::Mdpd},
-                                                     {"spline", PairStyle::Spline}})
-                        .value_or(PairStyle::Dpd);
+  std::vector<std::string_view> keys{"style"};
+  for (const std::string_view k : pair_param_names()) keys.push_back(k);
+  for (const std::string_view k : {"kernel", "mixing", "override"}) keys.push_back(k);
+  const Section pair = top.table_or_empty("pair", keys);
+  std::vector<std::pair<std::string, int>> styles;
+  for (const PairLawInfo& law : pair_law_infos()) styles.emplace_back(std::string(law.style), static_cast<int>(styles.size()));
+  spec.pair_style = static_cast<PairStyle>(pair.choice_of("style", styles).value_or(0));
   PairSection& sec = spec.pair_section;
   sec.kernel = pair.choice<DensityKernelChoice>("kernel", {{"warren", DensityKernelChoice::Warren},
                                                            {"lucy", DensityKernelChoice::Lucy}});
   sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
                    .value_or(Mixing::Explicit);
   sec.params = read_pair_params(pair);
-  for (const Section& o : pair.tables("override", {"species", "a", "gamma", "sigma", "rc", "rd", "s", "b", "repulsion",
-                                                  "rc1", "attraction", "rc2"})) {
+  std::vector<std::string_view> override_keys{"species"};
+  for (const std::string_view k : pair_param_names()) override_keys.push_back(k);
+  for (const Section& o : pair.tables("override", override_keys)) {
     PairOverride ov;
     auto names = o.strings("species");
     if (!names) o.missing("species", " (the two species names of the pair)");

@@ -19,6 +19,7 @@
 #include "boundary/boundary_keys.hpp"
 #include "boundary/geometry.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
 #include "io/frame.hpp"
@@ -74,7 +75,7 @@ std::string species_key(std::size_t k, std::string_view field) { return fmt::for
 // The largest interaction range of any pair (the pairs are resolved by then).
 double largest_cutoff(const SimulationSpec& spec) {
   double cutoff = 0.0;
-  for (const PairSpec& p : spec.pairs) cutoff = std::max(cutoff, p.range(spec.pair_style));
+  for (const PairSpec& p : spec.pairs) cutoff = std::max(cutoff, pair_range(p, spec.pair_style));
   return cutoff;
 }
 
@@ -154,56 +155,79 @@ void validate_species(SimulationSpec& spec) {
   }
 }
 
+// The shared key `name` of a PairParams.
+std::optional<double> PairParams::*shared_member(std::string_view name) {
+  if (name == "a") return &PairParams::a;
+  if (name == "gamma") return &PairParams::gamma;
+  if (name == "sigma") return &PairParams::sigma;
+  if (name == "rc") return &PairParams::rc;
+  if (name == "rd") return &PairParams::rd;
+  return &PairParams::s;
+}
+
+// The own key `name` as the first law that declares it declares it.
+const LawKey* own_key(std::string_view name) {
+  for (const PairLawInfo& law : pair_law_infos())
+    for (const LawKey& k : law.own)
+      if (k.name == name) return &k;
+  return nullptr;
+}
+
+
 void validate_pair_params(const std::string& prefix, const PairParams& p, PairStyle style) {
-  // Many-body DPD's A_ij is attractive (negative) in Warren's liquid; every other law repels with a >= 0.
-  check(prefix + ".a", p.a, style == PairStyle::Mdpd ? kFinite : kNonNegative);
+  const PairLawInfo& law = pair_law(style);
+  // Many-body DPD's A_ij is attractive (negative) in Warren's liquid; the other laws repel with a >= 0.
+  check(prefix + ".a", p.a, Range{law.min_a, kInf, true, true});
   check(prefix + ".gamma", p.gamma, kNonNegative);
   check(prefix + ".sigma", p.sigma, kNonNegative);
   check(prefix + ".rc", p.rc, kCutoff);
   check(prefix + ".rd", p.rd, kCutoff);
   check(prefix + ".s", p.s, kCutoff);
-  check(prefix + ".b", p.b, kNonNegative);
-  check(prefix + ".repulsion", p.repulsion, kNonNegative);
-  check(prefix + ".attraction", p.attraction, kNonNegative);
-  check(prefix + ".rc1", p.rc1, kCutoff);
-  check(prefix + ".rc2", p.rc2, kCutoff);
+  for (const auto& [name, value] : p.own) {
+    const LawKey* k = own_key(name);
+    if (!k) fail(prefix + "." + name, show(value), "is not a key of any pair law");
+    check(prefix + "." + name, value, Range{k->lo, k->hi, k->lo_closed, k->hi_closed});
+  }
   // Keys the style does not read would be silently ignored: refuse them.
-  const char* style_name = style == PairStyle::Dpd ? "dpd" : style == PairStyle::Soft ? "soft"
-                           : style == PairStyle::Mdpd ? "mdpd" : "spline";
-  const auto refuse = [&](const char* name, const std::optional<double>& v, const char* used_by) {
-    if (v)
-      fail(prefix + "." + name, show(*v),
-           fmt::format("not used with pair.style = \"{}\" (only with pair.style = \"{}\")", style_name, used_by));
+  const auto users = [](std::string_view name) {
+    std::string out;
+    for (const PairLawInfo& other : pair_law_infos()) {
+      const bool uses = std::find(other.shared.begin(), other.shared.end(), name) != other.shared.end() ||
+                        std::any_of(other.own.begin(), other.own.end(), [&](const LawKey& k) { return k.name == name; });
+      if (uses) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", other.style);
+    }
+    return out;
   };
-  if (style != PairStyle::Mdpd) refuse("b", p.b, "mdpd");
-  if (style != PairStyle::Spline)
-    for (const auto& [name, value] : {std::pair{"repulsion", p.repulsion}, {"rc1", p.rc1}, {"attraction", p.attraction},
-                                      {"rc2", p.rc2}})
-      refuse(name, value, "spline");
+  for (const std::string_view name : kSharedPairKeys) {
+    const std::optional<double>& v = p.*shared_member(name);
+    if (!v || std::find(law.shared.begin(), law.shared.end(), name) != law.shared.end()) continue;
+    if (!law.noise && name != "a" && name != "rc")
+      fail(prefix + "." + std::string(name), show(*v),
+           fmt::format("not used with pair.style = \"{}\" (a conservative law without dissipative or random force)",
+                       law.style));
+    fail(prefix + "." + std::string(name), show(*v),
+         fmt::format("not used with pair.style = \"{}\" (only with pair.style = {})", law.style, users(name)));
+  }
+  for (const auto& [name, value] : p.own)
+    if (std::none_of(law.own.begin(), law.own.end(), [&](const LawKey& k) { return k.name == name; }))
+      fail(prefix + "." + name, show(value),
+           fmt::format("not used with pair.style = \"{}\" (only with pair.style = {})", law.style, users(name)));
 }
 
 // Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
 void validate_pairs(SimulationSpec& spec) {
   const PairSection& sec = spec.pair_section;
   validate_pair_params("pair", sec.params, spec.pair_style);
-  if (sec.kernel && spec.pair_style != PairStyle::Mdpd)
+  if (sec.kernel && !pair_law(spec.pair_style).density) {
+    std::string with;
+    for (const PairLawInfo& law : pair_law_infos())
+      if (law.density) with += fmt::format("{}pair.style = \"{}\"", with.empty() ? "" : " or ", law.style);
     fail("pair.kernel", *sec.kernel == DensityKernelChoice::Warren ? "\"warren\"" : "\"lucy\"",
-         "only used with pair.style = \"mdpd\" (the local-density kernel of many-body DPD)");
+         fmt::format("only used with {} (the local-density kernel of many-body DPD)", with));
+  }
   if (spec.pair_style == PairStyle::Mdpd && sec.mixing == Mixing::Geometric)
     fail("pair.mixing", "\"geometric\"",
          "not available with pair.style = \"mdpd\" (A_ij is usually negative); set pair.a and [[pair.override]]");
-  if (spec.pair_style == PairStyle::Soft) {
-    // The soft law reads a (its amplitude A) and rc only: a thermostat key would be silently ignored.
-    auto refuse_thermostat_keys = [](const std::string& prefix, const PairParams& p) {
-      for (const auto& [name, value] : {std::pair{"gamma", p.gamma}, {"sigma", p.sigma}, {"rd", p.rd}, {"s", p.s}})
-        if (value)
-          fail(prefix + "." + name, show(*value),
-               "not used with pair.style = \"soft\" (a conservative law without dissipative or random force)");
-    };
-    refuse_thermostat_keys("pair", sec.params);
-    for (std::size_t k = 0; k < sec.overrides.size(); ++k)
-      refuse_thermostat_keys(fmt::format("pair.override[{}]", k), sec.overrides[k].params);
-  }
   if (sec.mixing == Mixing::Geometric && sec.params.a)
     fail("pair.a", show(*sec.params.a), "not used with pair.mixing = \"geometric\" (a_ij = sqrt(a_i a_j) from species[].a)");
 
@@ -253,42 +277,45 @@ void validate_pairs(SimulationSpec& spec) {
       p.rc = pick(&PairParams::rc).value_or(1.0);
       p.rd = pick(&PairParams::rd).value_or(p.rc);  // rd follows this pair's rc unless set
       p.s = pick(&PairParams::s).value_or(2.0);
-      // The key a resolved value came from (the override's when it sets it), for messages.
-      const auto key_of = [&](std::optional<double> PairParams::*member, const char* name) {
-        return (ov && (ov->*member) ? ov_key : std::string("pair")) + "." + name;
-      };
       const std::string pair_names = fmt::format("species pair ({}, {})", names[i], names[j]);
       // A value the style needs that neither the override nor [pair] gives.
-      const auto required = [&](std::optional<double> PairParams::*member, const char* name, const char* what) {
-        const auto v = pick(member);
-        if (!v)
-          fail(k != kNone ? ov_key + "." + name : std::string("pair.") + name, "",
-               fmt::format("missing for {}: pair.style = \"{}\" needs {} (no default)", pair_names,
-                           spec.pair_style == PairStyle::Mdpd ? "mdpd" : "spline", what));
-        return *v;
+      const PairLawInfo& law = pair_law(spec.pair_style);
+      const auto missing = [&](std::string_view name, std::string_view what) {
+        fail(fmt::format("{}.{}", k != kNone ? ov_key : std::string("pair"), name), "",
+             fmt::format("missing for {}: pair.style = \"{}\" needs {} (no default)", pair_names, law.style, what));
       };
-      if (spec.pair_style == PairStyle::Mdpd) {
-        // seed 000 Eq. 17: A_ij, B_ij and the many-body range r_d are physics choices without a neutral value.
-        p.a = required(&PairParams::a, "a", "A_ij (Warren's liquid: a = -40)");
-        p.b = required(&PairParams::b, "b", "B_ij (Warren's liquid: b = 25)");
-        p.rd = required(&PairParams::rd, "rd", "the many-body range r_d (Warren: rd = 0.75)");
-        if (p.rd > p.rc)
-          fail(key_of(&PairParams::rd, "rd"), show(p.rd),
-               fmt::format("the many-body range r_d must not exceed rc = {} for {} (seed 000 Eq. 17)", p.rc, pair_names));
-        if (p.a < 0 && p.b == 0)
-          fail(key_of(&PairParams::b, "b"), show(p.b),
-               fmt::format("with a = {} < 0 and no density-dependent repulsion the fluid of {} collapses; "
-                           "set b > 0 (Warren's liquid: a = -40, b = 25)", p.a, pair_names));
-      } else if (spec.pair_style == PairStyle::Spline) {
-        p.repulsion = required(&PairParams::repulsion, "repulsion", "A of seed 000 Eq. 19 (Liu: repulsion = 2.0)");
-        p.rc1 = required(&PairParams::rc1, "rc1", "r_c1 of seed 000 Eq. 19 (Liu: rc1 = 0.8)");
-        p.attraction = required(&PairParams::attraction, "attraction", "B of seed 000 Eq. 19 (Liu: attraction = 0..1.1)");
-        p.rc2 = required(&PairParams::rc2, "rc2", "r_c2 of seed 000 Eq. 19 (Liu: rc2 = 1.0)");
-        // U(0) = a (A - B): without a repulsive core the particles pile up on each other.
-        if (p.attraction > 0 && p.repulsion <= p.attraction)
-          fail(key_of(&PairParams::attraction, "attraction"), show(p.attraction),
-               fmt::format("must be smaller than repulsion = {} for {}: U(0) = a (A - B) must be positive, "
-                           "or the particles collapse onto each other", p.repulsion, pair_names));
+      for (const auto& [name, hint] : law.required) {
+        const auto v = pick(shared_member(name));
+        if (!v) missing(name, hint);
+        (name == "a" ? p.a : name == "rd" ? p.rd : name == "rc" ? p.rc : name == "gamma" ? p.gamma : p.s) = *v;
+      }
+      for (const LawKey& key : law.own) {
+        const auto from = [&](const PairParams* params) -> const double* {
+          if (!params) return nullptr;
+          const auto it = params->own.find(key.name);
+          return it == params->own.end() ? nullptr : &it->second;
+        };
+        const double* v = from(ov) ? from(ov) : from(&sec.params);
+        if (!v && key.required) missing(key.name, key.hint);
+        p.own[std::string(key.name)] = v ? *v : key.fallback;
+      }
+      // The law's own checks on the resolved pair.
+      const LawProblem problem = law.problem(pair_values(p, spec.pair_style, spec.kT));
+      if (problem.why) {
+        const bool shared =
+            std::find(kSharedPairKeys.begin(), kSharedPairKeys.end(), problem.key) != kSharedPairKeys.end();
+        const bool in_override = ov && (shared ? (ov->*shared_member(problem.key)).has_value()
+                                               : ov->own.count(problem.key) > 0);
+        const double value = !shared ? p.value(problem.key)
+                             : problem.key == "a" ? p.a : problem.key == "rd" ? p.rd : problem.key == "rc" ? p.rc
+                             : problem.key == "gamma" ? p.gamma : p.s;
+        std::string why = problem.why;
+        const auto put = [&](std::string_view token, const std::string& text) {
+          if (const auto at = why.find(token); at != std::string::npos) why.replace(at, token.size(), text);
+        };
+        put("{value}", show(problem.other));
+        put("{pair}", pair_names);
+        fail(fmt::format("{}.{}", in_override ? ov_key : std::string("pair"), problem.key), show(value), why);
       }
 
       // sigma is not independent: fluctuation-dissipation fixes sigma^2 = 2 gamma kT (seed 000 Eq. 7).
@@ -933,12 +960,12 @@ std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
   if (spec.pair_style == PairStyle::Mdpd && !spec.pairs.empty()) {
     const PairSpec& first = spec.pairs.front();
     for (const PairSpec& p : spec.pairs)
-      if (p.b != first.b || p.rd != first.rd) {
+      if (p.value("b") != first.value("b") || p.rd != first.rd) {
         out.push_back(fmt::format(
             "pair.style = \"mdpd\" with B_ij or r_d that differ between species pairs (b = {} and {}, rd = {} and "
             "{}): such a many-body force derives from no potential (Warren, Phys. Rev. E 68, 066702 (2003)), so the "
             "energy in thermo.csv is not conserved and the mixture need not reach a Boltzmann equilibrium",
-            first.b, p.b, first.rd, p.rd));
+            first.value("b"), p.value("b"), first.rd, p.rd));
         break;
       }
   }
@@ -949,14 +976,16 @@ std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
     // bound as the density grows, so a "liquid" keeps contracting instead of coexisting with its gas
     // (docs/validation.md, Liu's droplet phases at B = 1.05 and 1.1).
     for (const PairSpec& p : spec.pairs) {
-      const double integral = p.a * (p.repulsion * std::pow(p.rc1, 3) - p.attraction * std::pow(p.rc2, 3));
+      const double repulsion = p.value("repulsion"), rc1 = p.value("rc1"), attraction = p.value("attraction"),
+                   rc2 = p.value("rc2");
+      const double integral = p.a * (repulsion * std::pow(rc1, 3) - attraction * std::pow(rc2, 3));
       if (integral < 0) {
         out.push_back(fmt::format(
             "pair.style = \"spline\" for species pair ({}, {}): a (A r_c1^3 - B r_c2^3) = {:.4g} < 0 (a = {}, repulsion "
             "A = {}, rc1 = {}, attraction B = {}, rc2 = {}): the potential's integral over space is negative, so it is "
             "catastrophic (no thermodynamic limit) and dense drops keep contracting; keep B below A (r_c1 / r_c2)^3 = {:.4g}",
             spec.species[static_cast<std::size_t>(p.i)].name, spec.species[static_cast<std::size_t>(p.j)].name, integral,
-            p.a, p.repulsion, p.rc1, p.attraction, p.rc2, p.repulsion * std::pow(p.rc1 / p.rc2, 3)));
+            p.a, repulsion, rc1, attraction, rc2, repulsion * std::pow(rc1 / rc2, 3)));
         break;
       }
     }

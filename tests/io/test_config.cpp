@@ -867,7 +867,7 @@ TEST(Config, ManyBodyAndSplineStyles) {
   const SimulationSpec spec = parse_config(minimal_plus(mdpd), "test.toml");
   EXPECT_EQ(spec.pair_style, PairStyle::Mdpd);
   EXPECT_EQ(spec.pair(0, 0).a, -40.0);
-  EXPECT_EQ(spec.pair(0, 0).b, 25.0);
+  EXPECT_EQ(spec.pair(0, 0).value("b"), 25.0);
   EXPECT_EQ(spec.pair(0, 0).rd, 0.75);
   EXPECT_EQ(spec.pair_section.kernel, DensityKernelChoice::Lucy);
   // Bad input: a kernel that does not exist, r_d beyond r_c, a collapsing sign combination, missing keys.
@@ -888,8 +888,8 @@ TEST(Config, ManyBodyAndSplineStyles) {
   const SimulationSpec sp = parse_config(minimal_plus(spline + "[[pair.override]]\nspecies = [\"A\", \"A\"]\nattraction = 1.1\n"),
                                          "test.toml");
   EXPECT_EQ(sp.pair_style, PairStyle::Spline);
-  EXPECT_EQ(sp.pair(0, 0).attraction, 1.1);  // per pair
-  EXPECT_EQ(sp.pair(0, 0).rc1, 0.8);
+  EXPECT_EQ(sp.pair(0, 0).value("attraction"), 1.1);  // per pair
+  EXPECT_EQ(sp.pair(0, 0).value("rc1"), 0.8);
   expect_error(minimal_plus("[pair]\nstyle = \"spline\"\na = 18.75\nrepulsion = 2.0\nrc1 = 0.8\nattraction = 1.0\n"),
                {"pair.rc2", "missing"});
   expect_error(minimal_plus("[pair]\nstyle = \"spline\"\na = 1\nrepulsion = 1.0\nrc1 = 0.8\nattraction = 1.0\nrc2 = 1\n"),

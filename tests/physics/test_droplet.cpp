@@ -34,7 +34,7 @@ SimulationSpec warren_spec(double l, double rho) {
   SimulationSpec spec = test::fluid_spec(l, l, l, rho, -40.0, 4.5, 0.01);
   spec.pair_style = PairStyle::Mdpd;
   spec.pair_section.kernel = DensityKernelChoice::Warren;
-  spec.pairs[0].b = 25.0;
+  spec.pairs[0].own["b"] = 25.0;
   spec.pairs[0].rd = 0.75;
   return spec;
 }

@@ -31,7 +31,7 @@ SimulationSpec warren_spec(double l, double rho, double gamma, DensityKernelChoi
   SimulationSpec spec = test::fluid_spec(l, l, l, rho, -40.0, gamma, 0.01);
   spec.pair_style = PairStyle::Mdpd;
   spec.pair_section.kernel = kernel;
-  spec.pairs[0].b = 25.0;
+  spec.pairs[0].own["b"] = 25.0;
   spec.pairs[0].rd = 0.75;
   return spec;
 }
@@ -196,7 +196,7 @@ TEST(ManyBody, CollapseStopsTheRunNamingTheLocalDensity) {
     for (int k = 0; k < 300; ++k) liquid.step();
   }
   spec.pairs[0].a = -80.0;
-  spec.pairs[0].b = 0.2;
+  spec.pairs[0].own["b"] = 0.2;
   Simulation sim(spec, RunOptions{});
   try {
     for (int k = 0; k < 3000; ++k) sim.step();

@@ -66,16 +66,16 @@ SimulationSpec three_species(PairStyle style, double s) {
     if (style == PairStyle::Mdpd) {
       // Warren-like: attraction A < 0, many-body repulsion B > 0 over r_d < r_c, all different per pair.
       ps.a = -a[k];
-      ps.b = 10.0 + 3 * k;
+      ps.own["b"] = 10.0 + 3 * k;
       ps.rd = 0.55 + 0.05 * k;
     }
     if (style == PairStyle::Spline) {
       // Liu's shape with per-pair coefficients and ranges (seed 000 Eq. 19).
       ps.a = 18.75 - k;
-      ps.repulsion = 2.0 + 0.1 * k;
-      ps.rc1 = 0.8 - 0.02 * k;
-      ps.attraction = 0.9 + 0.05 * k;
-      ps.rc2 = rc[k];
+      ps.own["repulsion"] = 2.0 + 0.1 * k;
+      ps.own["rc1"] = 0.8 - 0.02 * k;
+      ps.own["attraction"] = 0.9 + 0.05 * k;
+      ps.own["rc2"] = rc[k];
     }
     spec.pairs.push_back(ps);
   }

@@ -1,0 +1,46 @@
+// What a pair law declares about its parameters, beside its force: its style name, the keys of [pair] and
+// [[pair.override]] it reads (the shared DPD keys it uses and keys of its own, with their ranges,
+// defaults and one-line docs), how a resolved species pair becomes its parameter struct, and how far the
+// pair reaches. The schema reads, checks, refuses and documents the keys from this (src/schema/), and
+// the engine builds the parameter tables with it (engine/pair_laws.hpp): a new law is one header.
+// Host-only declarations: nothing here is called from a device.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <string_view>
+
+namespace mesodpd {
+
+// One parameter key of a law, as written in [pair] or a [[pair.override]].
+struct LawKey {
+  std::string_view name;
+  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+  bool lo_closed = true, hi_closed = true;  // the allowed values
+  bool required = false;                    // no default: every species pair needs a value
+  double fallback = 0;                      // the default where not required
+  std::string_view hint;                    // for "missing": what the key is, with a usual value
+  std::string_view doc;                     // one line for docs/config.md (own keys)
+};
+
+// The keys every DPD-like law shares, in the order of docs/config.md; a law says which of them it reads
+// (kShared) and may require one (kRequired). Their ranges and meanings are the schema's ([pair]).
+inline constexpr std::array<std::string_view, 6> kSharedPairKeys{"a", "gamma", "sigma", "rc", "rd", "s"};
+
+// The values of one resolved species pair as a law reads them: the shared keys (sigma already follows
+// from gamma and kT, seed 000 Eq. 7; rd defaults to rc) and the law's own keys in the order of its kOwn.
+struct PairValues {
+  double a = 25, gamma = 4.5, sigma = 3, rc = 1, rd = 1, s = 2;
+  static constexpr std::size_t kMaxOwn = 8;
+  std::array<double, kMaxOwn> own{};
+};
+
+// A check a law makes on one resolved pair: the key it is about and why (the schema adds the key's full
+// name, its value and the species pair).
+struct LawProblem {
+  std::string_view key;
+  const char* why = nullptr;  // nullptr: no problem
+  double other = 0;           // a value the message quotes
+};
+
+}  // namespace mesodpd
