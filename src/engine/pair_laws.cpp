@@ -92,6 +92,81 @@ PairValues pair_values(const PairSpec& ps, PairStyle style, double kT) {
 
 double pair_range(const PairSpec& ps, PairStyle style) { return pair_law(style).range(pair_values(ps, style, 1.0)); }
 
+namespace {
+// `"dpd"`, `"soft"`: styles whose law passes `pred`.
+template <class Pred>
+std::string styles_where(Pred&& pred) {
+  std::string out;
+  for (const PairLawInfo& law : pair_law_infos())
+    if (pred(law)) out += std::string(out.empty() ? "" : ", ") + "`" + std::string(law.style) + "`";
+  return out;
+}
+
+keys::KeyDoc own_row(const LawKey& k) {
+  const std::string users = styles_where([&](const PairLawInfo& law) {
+    return std::any_of(law.own.begin(), law.own.end(), [&](const LawKey& o) { return o.name == k.name; });
+  });
+  const keys::Range r{k.lo, k.hi, k.lo_closed, k.hi_closed};
+  return {std::string(k.name), "number", k.required ? "none" : keys::doc_number(k.fallback), r.doc(),
+          users + " only: " + std::string(k.doc)};
+}
+}  // namespace
+
+std::vector<keys::KeyDoc> pair_key_docs() {
+  std::vector<keys::KeyDoc> rows;
+  std::string style_doc = "The pair force law.", styles;
+  for (const PairLawInfo& law : pair_law_infos()) {
+    style_doc += " `" + std::string(law.style) + "`: " + std::string(law.doc);
+    styles += std::string(styles.empty() ? "" : ", ") + "`\"" + std::string(law.style) + "\"`";
+  }
+  rows.push_back({"style", "string", "`\"" + std::string(pair_law_infos().front().style) + "\"`", styles, style_doc});
+  const std::string negative_a = styles_where([](const PairLawInfo& law) { return law.min_a < 0; });
+  rows.push_back({"a", "number", "25.0", ">= 0 (any with " + negative_a + ")",
+                  "Conservative repulsion a_ij, F^C = a_ij (1 - r/r_c) r-hat (seed 000 Eq. 3). Refused with `mixing = "
+                  "\"geometric\"`."});
+  rows.push_back({"gamma", "number", "4.5", ">= 0",
+                  "Dissipative strength gamma (seed 000 Eq. 4). The random strength follows from it: sigma = sqrt(2 "
+                  "gamma kT)."});
+  rows.push_back({"sigma", "number", "none", ">= 0",
+                  "Optional cross-check only: if given, sigma^2 must equal 2 gamma kT within a relative 1e-6 (seed 000 "
+                  "Eq. 7), else an error naming `pair.sigma` states the consistent value. gamma stays the independent "
+                  "parameter."});
+  rows.push_back({"rc", "number", "1.0", "(0, 10]", "Cutoff of the conservative force."});
+  rows.push_back({"rd", "number", "= `rc`", "(0, 10]",
+                  "Cutoff of the dissipative and random forces (seed 000 Eq. 8). When not set, each pair's rd equals "
+                  "that pair's rc (also an overridden rc)."});
+  rows.push_back({"s", "number", "2.0", "(0, 10]",
+                  "Exponent of the weight function w^D = (w^R)^2 = (1 - r/r_d)^s (seed 000 Eq. 8); s = 2 is standard "
+                  "DPD, smaller s raises the viscosity."});
+  std::vector<std::string_view> seen;
+  for (const PairLawInfo& law : pair_law_infos())
+    for (const LawKey& k : law.own)
+      if (std::find(seen.begin(), seen.end(), k.name) == seen.end()) {
+        seen.push_back(k.name);
+        rows.push_back(own_row(k));
+      }
+  const std::string density = styles_where([](const PairLawInfo& law) { return law.density; });
+  rows.push_back({"kernel", "string", "`\"warren\"`", "`\"warren\"`, `\"lucy\"`",
+                  density + " only: the local-density kernel, Warren's 15/(2 pi r_d^3)(1 - r/r_d)^2 or Lucy's 105/(16 pi "
+                            "r_d^3)(1 + 3r/r_d)(1 - r/r_d)^3 (LAMMPS `mdpd/rhosum`). One kernel for all pairs, each "
+                            "pair with its own r_d."});
+  rows.push_back({"mixing", "string", "`\"explicit\"`", "`\"explicit\"`, `\"geometric\"`",
+                  "How a_ij is formed: `explicit` uses `pair.a` for every pair; `geometric` uses a_ij = sqrt(a_i a_j) "
+                  "from `species[].a` (seed 002 Eq. 4). With `explicit`, `species[].a` is refused."});
+  return rows;
+}
+
+std::vector<keys::KeyDoc> pair_override_key_docs() {
+  std::vector<keys::KeyDoc> rows;
+  rows.push_back({"species", "array of 2 strings", "required", "defined species names",
+                  "Names of the pair (`[\"A\", \"B\"]` = `[\"B\", \"A\"]`; may be equal, `[\"A\", \"A\"]`). Each "
+                  "must be a defined species; a pair may be overridden only once."});
+  for (const keys::KeyDoc& r : pair_key_docs())
+    if (r.name != "style" && r.name != "kernel" && r.name != "mixing")
+      rows.push_back({r.name, r.type, "from `[pair]`", r.allowed, "As in `[pair]`."});
+  return rows;
+}
+
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec) {
   return fill_table<DpdPairParams>(
       spec, [&](const PairSpec& ps) { return DpdLaw::make(pair_values(ps, PairStyle::Dpd, spec.kT)); },

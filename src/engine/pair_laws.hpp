@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "mesodpd/key_table.hpp"
 #include "mesodpd/spec.hpp"
 #include "physics/density_kernel.hpp"
 #include "physics/law_keys.hpp"
@@ -81,6 +82,11 @@ inline const PairLawInfo& pair_law(PairStyle style) { return pair_law_infos().at
 PairValues pair_values(const PairSpec& ps, PairStyle style, double kT);
 // The distance beyond which the pair does not interact under `style`.
 double pair_range(const PairSpec& ps, PairStyle style);
+
+// The rows of the [pair] and [[pair.override]] key tables of docs/config.md: the style, the shared keys,
+// every law's own keys (each marked with the styles that read it), kernel and mixing.
+std::vector<keys::KeyDoc> pair_key_docs();
+std::vector<keys::KeyDoc> pair_override_key_docs();
 
 // A density kernel and its per-species-pair range, for ForceCompute::compute_density.
 struct DensitySettings {

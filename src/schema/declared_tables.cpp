@@ -4,6 +4,7 @@
 #include "analysis/analysis_keys.hpp"
 #include "boundary/boundary_keys.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
 
@@ -11,8 +12,10 @@ namespace mesodpd {
 
 std::vector<DeclaredTable> declared_tables() {
   std::vector<DeclaredTable> out;
-  const auto add = [&](const auto& table) { out.push_back({table.path(), table.docs()}); };
+  const auto add = [&](const auto& table) { out.push_back({table.path(), table.docs(), false, {}}); };
   add(system_keys());
+  out.push_back({"pair", pair_key_docs()});
+  out.push_back({"pair.override", pair_override_key_docs(), true, "species = [\"A\", \"A\"]"});
   add(integrator_keys());
   add(run_keys());
   add(neighbor_keys());

@@ -11,6 +11,8 @@ namespace mesodpd {
 struct DeclaredTable {
   std::string path;                // "integrator", "analysis.rdf"
   std::vector<keys::KeyDoc> rows;  // in declaration order
+  bool repeated = false;           // written as [[path]] blocks (keys then named "path[k].key")
+  std::string minimal;             // TOML lines that a block needs besides the key under test (for tests)
 };
 
 std::vector<DeclaredTable> declared_tables();

@@ -53,29 +53,32 @@ TEST(ConfigDocs, KeyTablesMatchTheDeclarations) {
 // The reader's key lists are the declarations: in every declared table an undeclared key is refused as
 // unknown, naming its full key, and no declared key is (a value of the wrong type for every key, a
 // date, gets a type error instead).
-std::string config_with(const std::string& path, const std::string& line) {
+std::string config_with(const mesodpd::DeclaredTable& t, const std::string& line) {
   std::string text = "[[species]]\nname = \"A\"\ndensity = 3\n";
-  if (path == "system")
+  if (t.path == "system")
     return text + "[system]\n" + (line.rfind("box ", 0) == 0 ? "" : "box = [10, 10, 10]\n") + line + "\n";
-  return text + "[system]\nbox = [10, 10, 10]\n[" + path + "]\n" + line + "\n";
+  text += "[system]\nbox = [10, 10, 10]\n";
+  text += t.repeated ? "[[" + t.path + "]]\n" : "[" + t.path + "]\n";
+  if (!t.minimal.empty() && line.rfind(t.minimal.substr(0, t.minimal.find(' ')) + " ", 0) != 0) text += t.minimal + "\n";
+  return text + line + "\n";
 }
 
 TEST(ConfigDocs, TheReaderAcceptsExactlyTheDeclaredKeys) {
   for (const auto& t : mesodpd::declared_tables()) {
     try {
-      mesodpd::parse_config(config_with(t.path, "no_such_key = 1"), "k.toml");
+      mesodpd::parse_config(config_with(t, "no_such_key = 1"), "k.toml");
       ADD_FAILURE() << t.path << ": an undeclared key was accepted";
     } catch (const mesodpd::ConfigError& e) {
-      EXPECT_EQ(e.key(), t.path + ".no_such_key") << e.what();
+      EXPECT_EQ(e.key(), t.path + (t.repeated ? "[0]" : "") + ".no_such_key") << e.what();
       EXPECT_NE(std::string(e.what()).find("unknown key"), std::string::npos) << e.what();
     }
     for (const auto& row : t.rows) {
       try {
-        mesodpd::parse_config(config_with(t.path, row.name + " = 1979-05-27"), "k.toml");
+        mesodpd::parse_config(config_with(t, row.name + " = 1979-05-27"), "k.toml");
         ADD_FAILURE() << t.path << "." << row.name << ": a date was accepted";
       } catch (const mesodpd::ConfigError& e) {
         EXPECT_EQ(std::string(e.what()).find("unknown key"), std::string::npos) << e.what();
-        EXPECT_EQ(e.key(), t.path + "." + row.name) << e.what();
+        EXPECT_EQ(e.key(), t.path + (t.repeated ? "[0]" : "") + "." + row.name) << e.what();
       }
     }
   }
