@@ -19,6 +19,7 @@
 
 #include "engine/fixed_point.hpp"
 #include "engine/pair_batch.hpp"
+#include "engine/pair_contribution.hpp"
 
 // Compiled once, not per target (this file is re-included for every instruction set below).
 #ifndef MESODPD_FORCE_COMPUTE_SHARED
@@ -248,28 +249,19 @@ struct ForcePass {
         in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
       }
       const PairForceT<PairReal> f = eval(pp, in);
-      const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
-      const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
+      const PairForceVector fv = pair_force_vector(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
       if constexpr (!kSums) {
         // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
         // lacks and which would keep the compiler from vectorising the law.
-        b.fx[k] = fx;
-        b.fy[k] = fy;
-        b.fz[k] = fz;
+        b.fx[k] = fv.x;
+        b.fy[k] = fv.y;
+        b.fz[k] = fv.z;
       } else {
-        b.qx[k] = to_fixed(fx, kForceScale);
-        b.qy[k] = to_fixed(fy, kForceScale);
-        b.qz[k] = to_fixed(fz, kForceScale);
-        const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
-        local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
-        local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
-        local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
-        local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
-        local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
-        local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
-        local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
-        local[7] += to_fixed(f.energy, kVirialScale);
-        local[8] += in_range ? 1 : 0;
+        const PairForceFixed q = to_fixed(fv);
+        b.qx[k] = q.x;
+        b.qy[k] = q.y;
+        b.qz[k] = q.z;
+        add_pair_sums(local, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
       }
     };
     for_each_pair_params(b, m, params, ns, species, pair);
