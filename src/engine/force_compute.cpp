@@ -963,6 +963,10 @@ std::vector<std::int64_t> ForceCompute::simd_targets() {
   return out;
 }
 
+std::unique_ptr<PairBackend> make_pair_backend(PairLawTables laws, NoiseSettings noise) {
+  return std::make_unique<ForceCompute>(std::move(laws), noise);
+}
+
 ForceCompute::ForceCompute(PairLawTables laws, NoiseSettings noise)
     : laws_(std::move(laws)), noise_(noise), ws_(std::make_unique<PairWorkspace>()) {}
 ForceCompute::~ForceCompute() = default;
@@ -1031,9 +1035,11 @@ void ForceCompute::subtract_pairs(ParticleData& p, const Box& box, std::span<con
 }
 
 void ForceCompute::compute_density(ParticleData& p, const Box& box, const NeighborList& list,
-                                   const DensitySettings& density, std::vector<double>& rho, Halo* halo) {
+                                   const DensitySettings& density, std::span<double> rho, Halo* halo) {
   apply_simd_cap();
-  rho.resize(p.size());
+  if (rho.size() < p.size())
+    throw std::invalid_argument("ForceCompute::compute_density: rho has " + std::to_string(rho.size()) +
+                                " entries for " + std::to_string(p.size()) + " stored particles");
   PairJob job;
   job.p = &p;
   job.box = &box;
