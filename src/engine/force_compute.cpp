@@ -1,8 +1,10 @@
-// The shared OpenMP pair loop, compiled once per SIMD instruction set with Google Highway and chosen at
-// run time. Candidate pairs are filtered by distance (vectorised), collected in a per-thread batch, then
-// evaluated in array passes (geometry, noise, the force law or density kernel, fixed-point conversion)
-// and scattered into per-thread integer buffers. The traversal is written once; what is evaluated is a
-// template parameter: a force law of engine/pair_laws.hpp or a density kernel.
+// The CPU pair backend: the shared OpenMP pair loop, compiled once per SIMD instruction set with Google
+// Highway and chosen at run time. Candidate pairs are filtered by distance (vectorised), collected in a
+// per-thread batch, then evaluated in array passes (geometry, noise, the force law or density kernel,
+// fixed-point conversion) and scattered into per-thread integer buffers. The traversal is written
+// once; what is evaluated is a template parameter: a force law of engine/pair_laws.hpp or a density
+// kernel. run_loop puts together the parts defined just above it: workspace, accumulation, candidate
+// filter, traversals, reduction.
 #include "engine/force_compute.hpp"
 
 #include <omp.h>
