@@ -11,6 +11,7 @@
 #include <cmath>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -142,7 +143,8 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
             ParticleData p = start;
             NeighborList list(NeighborSettings{max_cutoff(laws), skin, true});
             list.build(p, box);
-            ForceCompute fc(laws, NoiseSettings{99, noise});
+            ForceCompute cpu(laws, NoiseSettings{99, noise});
+            PairBackend& fc = cpu;  // as the engine holds it (engine/pair_backend.hpp)
             std::vector<double> rho(p.size());  // the caller sizes it (locals and ghosts)
             if (density) fc.compute_density(p, box, list, *density, rho, nullptr);
             // Forces alone (the usual step: vector fixed-point conversion), then forces with the sums
@@ -300,6 +302,9 @@ TEST(PairLoop, DensityPassEqualsBruteForceSum) {
           ForceCompute fc(make_pair_laws(three_species(PairStyle::Dpd, 2.0)), NoiseSettings{});
           std::vector<double> rho(p.size());
           fc.compute_density(p, box, list, ds, rho, nullptr);
+          // The caller sizes the array (locals and ghosts); a short one is refused, not overrun.
+          std::vector<double> short_rho(p.size() - 1);
+          EXPECT_THROW(fc.compute_density(p, box, list, ds, short_rho, nullptr), std::invalid_argument);
           std::vector<double> ref;
           reference_density(p, box, ds, ref);
           const std::string what = std::string(kind == DensityKernelKind::Warren ? "warren " : "lucy ") +
