@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "engine/force_compute.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"

@@ -14,6 +14,7 @@
 #include <random>
 #include <string>
 
+#include "engine/force_compute.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"

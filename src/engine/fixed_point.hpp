@@ -1,7 +1,6 @@
 // Fixed-point accumulation: forces and virials are summed as 64-bit integers, so the total does not
 // depend on the order of the additions (threads, ranks, neighbour order) and f_i = -sum f_j exactly.
 #pragma once
-#include <algorithm>
 #include <cstdint>
 
 #include "core/hd.hpp"

@@ -1,8 +1,10 @@
-// The shared OpenMP pair loop, compiled once per SIMD instruction set with Google Highway and chosen at
-// run time. Candidate pairs are filtered by distance (vectorised), collected in a per-thread batch, then
-// evaluated in array passes (geometry, noise, the force law or density kernel, fixed-point conversion)
-// and scattered into per-thread integer buffers. The traversal is written once; what is evaluated is a
-// template parameter: a force law of engine/pair_laws.hpp or a density kernel.
+// The CPU pair backend: the shared OpenMP pair loop, compiled once per SIMD instruction set with Google
+// Highway and chosen at run time. Candidate pairs are filtered by distance (vectorised), collected in a
+// per-thread batch, then evaluated in array passes (geometry, noise, the force law or density kernel,
+// fixed-point conversion) and scattered into per-thread integer buffers. The traversal is written
+// once; what is evaluated is a template parameter: a force law of engine/pair_laws.hpp or a density
+// kernel. run_loop puts together the parts defined just above it: workspace, accumulation, candidate
+// filter, traversals, reduction.
 #include "engine/force_compute.hpp"
 
 #include <omp.h>
@@ -19,6 +21,7 @@
 
 #include "engine/fixed_point.hpp"
 #include "engine/pair_batch.hpp"
+#include "engine/pair_contribution.hpp"
 
 // Compiled once, not per target (this file is re-included for every instruction set below).
 #ifndef MESODPD_FORCE_COMPUTE_SHARED
@@ -248,28 +251,19 @@ struct ForcePass {
         in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
       }
       const PairForceT<PairReal> f = eval(pp, in);
-      const PairReal scale = (f.fc + f.fd + f.fr) * b.inv_r[k];
-      const double fx = scale * b.dx[k], fy = scale * b.dy[k], fz = scale * b.dz[k];
+      const PairForceVector fv = pair_force_vector(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
       if constexpr (!kSums) {
         // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
         // lacks and which would keep the compiler from vectorising the law.
-        b.fx[k] = fx;
-        b.fy[k] = fy;
-        b.fz[k] = fz;
+        b.fx[k] = fv.x;
+        b.fy[k] = fv.y;
+        b.fz[k] = fv.z;
       } else {
-        b.qx[k] = to_fixed(fx, kForceScale);
-        b.qy[k] = to_fixed(fy, kForceScale);
-        b.qz[k] = to_fixed(fz, kForceScale);
-        const bool in_range = b.r[k] * b.r[k] < pp.rcut2;
-        local[0] += to_fixed(b.dx[k] * fx, kVirialScale);
-        local[1] += to_fixed(b.dy[k] * fy, kVirialScale);
-        local[2] += to_fixed(b.dz[k] * fz, kVirialScale);
-        local[3] += to_fixed(b.dx[k] * fy, kVirialScale);
-        local[4] += to_fixed(b.dx[k] * fz, kVirialScale);
-        local[5] += to_fixed(b.dy[k] * fz, kVirialScale);
-        local[6] += to_fixed(f.fc * b.r[k], kVirialScale);
-        local[7] += to_fixed(f.energy, kVirialScale);
-        local[8] += in_range ? 1 : 0;
+        const PairForceFixed q = to_fixed(fv);
+        b.qx[k] = q.x;
+        b.qy[k] = q.y;
+        b.qz[k] = q.z;
+        add_pair_sums(local, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
       }
     };
     for_each_pair_params(b, m, params, ns, species, pair);
@@ -389,9 +383,398 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   pass.evaluate(b, m, local);
 }
 
+// ---- The pair loop in four parts: workspace, accumulation, candidate filter, traversals. ----------
+// run_loop() at the end puts them together; each part reads on its own.
+
+// Workspace growth before the parallel region: the ghost totals (C integers per stored particle), one
+// integer buffer and one batch per thread. Returns the thread count the region runs with.
+inline int prepare_workspace(PairWorkspace& ws, int components, std::size_t ntot, bool ghosts) {
+  const std::size_t need = static_cast<std::size_t>(components) * ntot;
+  if (ghosts) {
+    if (need > ws.fixed.capacity()) ws.fixed.reserve(need + need / 8);  // not the usual doubling
+    ws.fixed.resize(need);
+  }
+  const int nthreads = omp_get_max_threads();
+  ws.buffers.resize(static_cast<std::size_t>(nthreads));
+  while (ws.batches.size() < static_cast<std::size_t>(nthreads)) ws.batches.push_back(std::make_unique<PairBatch>());
+  return nthreads;
+}
+
+// Whether any stored particle is frozen (body != 0). Frozen wall particles do not interact with each
+// other: force passes skip such pairs when the system holds any. Density passes keep them (a wall
+// particle's density counts its neighbours in the wall too), so they never ask.
+inline bool any_frozen_particle(const ParticleData& p) {
+  const std::int32_t* bd = p.body.data();
+  const std::size_t ntot = p.size();
+  for (std::size_t k = 0; k < ntot; ++k)
+    if (bd[k] != 0) return true;
+  return false;
+}
+
+// Accumulation, one per thread: owns the thread's batch of pairs, evaluates it (evaluate_batch) when
+// it is full or the traversal ends, and scatters the integer results into the thread's buffer (C
+// integers per stored particle) and its share of the sums. Integer adds, so neither the order of the
+// pairs nor the split over threads reaches the totals.
+template <class Pass, bool kSums>
+class BatchAccumulator {
+ public:
+  static constexpr int C = Pass::kComponents;
+
+  BatchAccumulator(PairBatch& b, std::int64_t* buf, const Pass& pass, const BatchGeometry& geo)
+      : b_(b), buf_(buf), pass_(pass), geo_(geo) {
+    b_.m = 0;
+  }
+
+  PairBatch& batch() { return b_; }
+
+  // Marks batch entries [m0, m) as pairs of particle i: copies i's position, velocity and id into
+  // them a vector at a time (see PairBatch::ix), so that the passes read them contiguously.
+  void mark_pairs_of(std::uint32_t i, std::size_t m0, std::size_t m) {
+    const hn::ScalableTag<double> dd;
+    const hn::Rebind<std::uint32_t, decltype(dd)> du;
+    const std::size_t nd = hn::Lanes(dd);
+    PairBatch& b = b_;
+    const auto px = hn::Set(dd, geo_.x[i]), py = hn::Set(dd, geo_.y[i]), pz = hn::Set(dd, geo_.z[i]);
+    const auto pvx = hn::Set(dd, geo_.vx[i]), pvy = hn::Set(dd, geo_.vy[i]), pvz = hn::Set(dd, geo_.vz[i]);
+    const auto pi = hn::Set(du, i), pid = hn::Set(du, geo_.id[i]);
+    for (std::size_t k = m0; k < m; k += nd) {
+      hn::StoreU(px, dd, b.ix + k);
+      hn::StoreU(py, dd, b.iy + k);
+      hn::StoreU(pz, dd, b.iz + k);
+      if constexpr (Pass::kVelocity) {
+        hn::StoreU(pvx, dd, b.ivx + k);
+        hn::StoreU(pvy, dd, b.ivy + k);
+        hn::StoreU(pvz, dd, b.ivz + k);
+      }
+      hn::StoreU(pi, du, b.i + k);
+      hn::StoreU(pid, du, b.iid + k);
+    }
+  }
+
+  // Evaluates every pair in the batch and scatters the results; the batch is then empty.
+  void flush() {
+    PairBatch& b = b_;
+    std::int64_t* buf = buf_;
+    const std::size_t m = b.m;
+    evaluate_batch(b, m, pass_, geo_, local_);
+    // Pass 4: scatter. The pairs of one particle i are consecutive in the batch, so i's share is
+    // summed in registers and added once per run.
+    if constexpr (C == 3) {
+      for (std::size_t k = 0; k < m;) {
+        const std::size_t i = b.i[k];
+        std::int64_t sx = 0, sy = 0, sz = 0;
+        for (; k < m && b.i[k] == i; ++k) {
+          const std::size_t j = b.j[k];
+          sx += b.qx[k];
+          sy += b.qy[k];
+          sz += b.qz[k];
+          buf[3 * j] -= b.qx[k];
+          buf[3 * j + 1] -= b.qy[k];
+          buf[3 * j + 2] -= b.qz[k];
+        }
+        buf[3 * i] += sx;
+        buf[3 * i + 1] += sy;
+        buf[3 * i + 2] += sz;
+      }
+    } else {
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t i = b.i[k], j = b.j[k];
+        buf[i] += b.qx[k];
+        buf[j] += Pass::kSymmetric ? b.qx[k] : -b.qx[k];
+      }
+    }
+    b.m = 0;
+  }
+
+  // The last batch, then this thread's sums into the rank's (integers: the order does not matter).
+  void finish(std::int64_t* totals) {
+    flush();
+    if constexpr (kSums) {
+#pragma omp critical
+      for (int q = 0; q < 9; ++q) totals[q] += local_[q];
+    }
+  }
+
+ private:
+  PairBatch& b_;
+  std::int64_t* buf_;
+  const Pass& pass_;
+  const BatchGeometry& geo_;
+  std::int64_t local_[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // this thread's sums (PairJob::totals)
+};
+
+// Where the instruction set has no compress instruction and a vector holds 4 candidates (AVX2, double
+// precision), the filter's compress is a table-driven byte shuffle (kCompress4).
+#undef MESODPD_TABLE_COMPRESS
+#if HWY_TARGET == HWY_AVX2 && !defined(MESODPD_SINGLE_PRECISION)
+#define MESODPD_TABLE_COMPRESS 1
+#else
+#define MESODPD_TABLE_COMPRESS 0
+#endif
+
+// The candidate filter: particle i against candidates [k0, k1) of the batch's candidate arrays
+// (PairBatch::cand_*), which hold nearest-image coordinates relative to (ox, oy, oz). Survivors are
+// appended to the accumulator's batch without branches: a vector of candidates per step, squared
+// distance, compare, and the survivors' indices packed by a compressing store; the last, partial
+// vector is masked. The filter only selects (a superset of the pairs in range: `filter2` carries a
+// margin), so its rounding never reaches the result.
+template <class Acc>
+class CandidateFilter {
+ public:
+  CandidateFilter(Acc& acc, const ParticleData& p, PairReal filter2, bool any_frozen)
+      : acc_(acc), x_(p.x.data()), y_(p.y.data()), z_(p.z.data()),
+        body_(reinterpret_cast<const std::uint32_t*>(p.body.data())), filter2_(filter2), any_frozen_(any_frozen) {}
+
+  void operator()(std::uint32_t i, std::size_t k0, std::size_t k1, double ox, double oy, double oz) {
+    const hn::ScalableTag<PairReal> dr;
+    const hn::Rebind<std::uint32_t, decltype(dr)> dru;
+    const std::size_t nr_lanes = hn::Lanes(dr);
+#if MESODPD_TABLE_COMPRESS
+    const hn::Repartition<std::uint8_t, decltype(dru)> du8;
+#endif
+    PairBatch& b = acc_.batch();
+    const std::uint32_t* __restrict body = body_;
+    constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
+    const auto lim = hn::Set(dr, filter2_);
+    const auto xi = hn::Set(dr, static_cast<PairReal>(x_[i] - ox));
+    const auto yi = hn::Set(dr, static_cast<PairReal>(y_[i] - oy));
+    const auto zi = hn::Set(dr, static_cast<PairReal>(z_[i] - oz));
+    for (std::size_t a = k0; a < k1; a += kChunk) {
+      const std::size_t cnt = std::min(k1, a + kChunk) - a;
+      const PairReal* __restrict cx = b.cand_x.data() + a;
+      const PairReal* __restrict cy = b.cand_y.data() + a;
+      const PairReal* __restrict cz = b.cand_z.data() + a;
+      const std::uint32_t* __restrict cj = b.cand_j.data() + a;
+      const std::uint32_t* __restrict cb = b.cand_body.data() + a;
+      // A frozen i keeps only mobile candidates.
+      const bool frozen_i = any_frozen_ && body[i] != 0;
+      if (b.m + cnt > PairBatch::kCapacity) acc_.flush();
+      const std::size_t m0 = b.m;
+      std::size_t m = m0;
+      // The candidate arrays carry a vector of slack, so whole-vector loads stay inside them.
+      for (std::size_t k = 0; k < cnt; k += nr_lanes) {
+        const auto valid = hn::FirstN(dr, cnt - k);
+        const auto dx = hn::Sub(xi, hn::LoadU(dr, cx + k));
+        const auto dy = hn::Sub(yi, hn::LoadU(dr, cy + k));
+        const auto dz = hn::Sub(zi, hn::LoadU(dr, cz + k));
+        const auto r2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
+        const auto keep = hn::And(valid, hn::Lt(r2, lim));
+#if MESODPD_TABLE_COMPRESS
+        {
+          // 4 candidates: the keep bits select a byte shuffle that packs the kept indices; the whole
+          // vector is stored (b.j has slack) and m advances by the count.
+          alignas(8) std::uint8_t bits[8] = {};
+          hn::StoreMaskBits(dr, keep, bits);
+          unsigned mask = bits[0];
+          if (frozen_i) {
+            alignas(8) std::uint8_t mobile[8] = {};
+            hn::StoreMaskBits(dru, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)), mobile);
+            mask &= mobile[0];
+          }
+          const auto shuffle = hn::Load(du8, kCompress4.idx[mask]);
+          hn::StoreU(hn::BitCast(dru, hn::TableLookupBytes(hn::BitCast(du8, hn::LoadU(dru, cj + k)), shuffle)), dru,
+                     b.j + m);
+          m += static_cast<std::size_t>(hwy::PopCount(mask));
+        }
+#else
+        auto keep_j = index_mask(dr, dru, keep);
+        if (frozen_i) keep_j = hn::And(keep_j, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)));
+        m += hn::CompressStore(hn::LoadU(dru, cj + k), keep_j, dru, b.j + m);
+#endif
+      }
+      acc_.mark_pairs_of(i, m0, m);
+      b.m = m;
+    }
+  }
+
+ private:
+  // The keep mask of a vector of coordinates as a mask of the 32-bit indices of the same lanes (lane
+  // sizes differ in double precision, so it goes through its bits).
+  template <class DR, class DRU, class M>
+  static auto index_mask(DR dr, DRU dru, M keep) {
+    if constexpr (sizeof(PairReal) == sizeof(std::uint32_t)) {
+      (void)dr;
+      return hn::RebindMask(dru, keep);
+    } else {
+      alignas(8) std::uint8_t bits[8] = {};
+      hn::StoreMaskBits(dr, keep, bits);
+      return hn::LoadMaskBits(dru, bits);
+    }
+  }
+
+  Acc& acc_;
+  const double* x_;
+  const double* y_;
+  const double* z_;
+  const std::uint32_t* body_;
+  PairReal filter2_;
+  bool any_frozen_;
+};
+
+// Traversal by cell pairs (this thread's share of the owned cells): particle i against the rest of
+// its own cell and the 13 forward neighbour cells. The candidates of a cell are gathered once into
+// the batch's candidate arrays, with periodic shifts applied, own cell first; the q-th particle of the
+// cell then scans candidates q+1 onwards with the filter.
+template <class Filter>
+void traverse_cell_pairs(const NeighborList& list, const ParticleData& p, const Box& box, bool any_frozen,
+                         PairBatch& b, Filter& filter) {
+  const hn::ScalableTag<double> dd;                 // particle coordinates
+  const hn::Rebind<std::uint32_t, decltype(dd)> du;  // indices, one per coordinate lane
+  const std::size_t nd = hn::Lanes(dd);
+  const double* __restrict x = p.x.data();
+  const double* __restrict y = p.y.data();
+  const double* __restrict z = p.z.data();
+  const std::uint32_t* __restrict body = reinterpret_cast<const std::uint32_t*>(p.body.data());
+  const double lx = box.len.x, ly = box.len.y, lz = box.len.z;  // shifts of wrapped cell runs
+  const CellGrid& grid = list.grid();
+  const std::uint32_t* start = list.cell_start().data();
+  const std::size_t ncells = grid.num_owned_cells();  // ghost cells are only partners
+  // Stores a vector of coordinates in the candidate arrays' type.
+  auto store_candidates = [&](auto v, PairReal* dst) {
+    if constexpr (std::is_same_v<PairReal, double>) {
+      hn::StoreU(v, dd, dst);
+    } else {
+      const hn::Rebind<PairReal, decltype(dd)> dc;
+      hn::StoreU(hn::DemoteTo(dc, v), dc, dst);
+    }
+  };
+#pragma omp for schedule(static)
+  for (std::size_t c = 0; c < ncells; ++c) {
+    if (start[c] == start[c + 1]) continue;
+    CellRun runs[CellGrid::kMaxHalfRuns];
+    const int nr = grid.half_runs(static_cast<int>(c), runs);
+    std::size_t total_c = 0;
+    for (int r = 0; r < nr; ++r) total_c += start[runs[r].last + 1] - start[runs[r].first];
+    if (b.cand_x.size() < total_c + PairBatch::kSlack) {  // slack for whole-vector loads and stores
+      b.cand_x.resize(2 * total_c + PairBatch::kSlack);
+      b.cand_y.resize(2 * total_c + PairBatch::kSlack);
+      b.cand_z.resize(2 * total_c + PairBatch::kSlack);
+      b.cand_j.resize(2 * total_c + PairBatch::kSlack);
+      if (any_frozen) b.cand_body.resize(2 * total_c + PairBatch::kSlack);
+    }
+    if (any_frozen && b.cand_body.size() < b.cand_j.size()) b.cand_body.resize(b.cand_j.size());
+    // Candidate coordinates are taken relative to a particle of the cell, so that they are small
+    // numbers whose float rounding (single-precision build) stays far below the filter's margin
+    // however large the box.
+    const double ox = x[start[c]], oy = y[start[c]], oz = z[start[c]];
+    std::size_t mc = 0;
+    for (int r = 0; r < nr; ++r) {
+      const CellRun& e = runs[r];
+      const double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
+      const std::uint32_t j0 = start[e.first], j1 = start[e.last + 1];
+      const auto vsx = hn::Set(dd, sx), vsy = hn::Set(dd, sy), vsz = hn::Set(dd, sz);
+      std::uint32_t j = j0;
+      // A vector at a time into the slack-padded arrays; the (short) run's last partial vector with
+      // a masked load where loads cannot fault, by a scalar loop elsewhere.
+      for (; j + nd <= j1 || (kFaultFreeMaskedLoad && j < j1); j += static_cast<std::uint32_t>(nd)) {
+        const auto valid = hn::FirstN(dd, j1 - j);
+        // (hwy's MaskedLoad wants aligned memory where it is not a fault-free instruction.)
+        auto load = [&](const double* src) {
+          if constexpr (kFaultFreeMaskedLoad)
+            return hn::MaskedLoad(valid, dd, src);
+          else
+            return hn::LoadU(dd, src);
+        };
+        store_candidates(hn::Add(load(x + j), vsx), b.cand_x.data() + mc);
+        store_candidates(hn::Add(load(y + j), vsy), b.cand_y.data() + mc);
+        store_candidates(hn::Add(load(z + j), vsz), b.cand_z.data() + mc);
+        hn::StoreU(hn::Iota(du, j), du, b.cand_j.data() + mc);
+        if (any_frozen) {
+          const auto valid_u = hn::FirstN(du, j1 - j);
+          if constexpr (kFaultFreeMaskedLoad)
+            hn::StoreU(hn::MaskedLoad(valid_u, du, body + j), du, b.cand_body.data() + mc);
+          else
+            hn::StoreU(hn::LoadU(du, body + j), du, b.cand_body.data() + mc);
+        }
+        mc += std::min<std::size_t>(nd, j1 - j);
+      }
+      for (; j < j1; ++j, ++mc) {
+        if (any_frozen) b.cand_body[mc] = body[j];
+        b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
+        b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
+        b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
+        b.cand_j[mc] = j;
+      }
+    }
+    for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc, ox, oy, oz);
+  }
+}
+
+// Traversal of a half Verlet list (this thread's share of the local particles): the listed partners
+// of i go into the batch as they are (the list holds only pairs within cutoff + skin), less the
+// frozen partners of a frozen i.
+template <class Acc>
+void traverse_verlet(const NeighborList& list, std::size_t n, const std::uint32_t* body, bool any_frozen, Acc& acc) {
+  PairBatch& b = acc.batch();
+  const std::uint32_t* off = list.offsets().data();
+  const std::uint32_t* nbr = list.neighbors().data();
+#pragma omp for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = off[i]; k < off[i + 1];) {
+      if (b.m == PairBatch::kCapacity) acc.flush();
+      const std::size_t m0 = b.m;
+      const std::size_t take = std::min<std::size_t>(off[i + 1] - k, PairBatch::kCapacity - m0);
+      std::size_t m = m0;
+      if (any_frozen && body[i] != 0) {
+        for (std::size_t q = 0; q < take; ++q) {
+          b.j[m] = nbr[k + q];
+          m += body[nbr[k + q]] == 0 ? 1 : 0;
+        }
+      } else {
+        for (std::size_t q = 0; q < take; ++q) b.j[m0 + q] = nbr[k + q];
+        m = m0 + take;
+      }
+      k += static_cast<std::uint32_t>(take);
+      b.m = m;
+      acc.mark_pairs_of(static_cast<std::uint32_t>(i), m0, b.m);
+    }
+  }
+}
+
+// Reduction of the per-thread buffers (inside the parallel region, after every thread's last flush):
+// integer addition, so the result does not depend on the thread count. Each entry is cleared as it is
+// read (its cache line is already there), which leaves the buffers all zero for the next call. Without
+// ghosts the sums go straight to the outputs (forces, or the density array); with ghosts their
+// integers go to ws.fixed, and the caller returns the ghost totals to their owners before converting.
+template <int C>
+void reduce_thread_buffers(PairWorkspace& ws, int nthreads, std::size_t n, std::size_t ntot, bool ghosts,
+                           ParticleData& p, double* out) {
+  if (!ghosts) {
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int64_t s[C] = {};
+      for (int u = 0; u < nthreads; ++u) {
+        std::int64_t* bu = ws.buffers[static_cast<std::size_t>(u)].data();
+        for (int q = 0; q < C; ++q) {
+          s[q] += bu[C * i + q];
+          bu[C * i + q] = 0;
+        }
+      }
+      if constexpr (C == 3) {
+        p.fx[i] = static_cast<double>(s[0]) * kForceUnscale;
+        p.fy[i] = static_cast<double>(s[1]) * kForceUnscale;
+        p.fz[i] = static_cast<double>(s[2]) * kForceUnscale;
+      } else {
+        out[i] = static_cast<double>(s[0]) * kForceUnscale;
+      }
+    }
+  } else {
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < C * ntot; ++k) {
+      std::int64_t s = 0;
+      for (int u = 0; u < nthreads; ++u) {
+        s += ws.buffers[static_cast<std::size_t>(u)][k];
+        ws.buffers[static_cast<std::size_t>(u)][k] = 0;
+      }
+      ws.fixed[k] = s;
+    }
+  }
+}
+
 // The shared loop: traverses every pair within the largest cutoff once (cell pairs or a half Verlet
-// list), evaluates `pass` on batches, and leaves the per-particle integer totals (summed over threads)
-// in job.out / p.f (no ghosts) or job.ws->fixed (with ghosts; the caller returns ghost totals first).
+// list), filters and batches them, evaluates `pass` on the batches and accumulates the per-particle
+// integer totals (summed over threads) in job.out / p.f (no ghosts) or job.ws->fixed (with ghosts; the
+// caller returns ghost totals first).
 template <class Pass, bool kSums>
 void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   constexpr int C = Pass::kComponents;
@@ -402,333 +785,34 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   const std::size_t n = p.n_local;
   const std::size_t ntot = p.size();  // local particles, then ghosts
   const bool ghosts = p.n_ghost > 0;
-  if (ghosts) {
-    if (C * ntot > ws.fixed.capacity()) ws.fixed.reserve(C * ntot + C * ntot / 8);  // not the usual doubling
-    ws.fixed.resize(C * ntot);
-  }
-  const int nthreads = omp_get_max_threads();
-  ws.buffers.resize(static_cast<std::size_t>(nthreads));
-  while (ws.batches.size() < static_cast<std::size_t>(nthreads)) ws.batches.push_back(std::make_unique<PairBatch>());
-  const double lx = box.len.x, ly = box.len.y, lz = box.len.z;  // shifts of wrapped cell runs
+  const int nthreads = prepare_workspace(ws, C, ntot, ghosts);
   // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
-  const double ilx = box.image_len(0), ily = box.image_len(1), ilz = box.image_len(2);
-  const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
-  const std::uint64_t seed = job.noise.seed;
-  const NoiseKind kind = job.noise.kind;
-  const std::uint64_t step = job.step;
+  const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
+                          p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
+                          box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
+                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step};
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
-  std::int64_t* total = job.totals;
-  // Frozen wall particles (body != 0) do not interact with each other: force passes skip such pairs
-  // when the system holds any. Density passes keep them (a wall particle's density counts its
-  // neighbours in the wall too).
-  bool any_frozen = false;
-  if constexpr (!Pass::kSymmetric) {
-    const std::int32_t* bd = p.body.data();
-    for (std::size_t k = 0; k < ntot && !any_frozen; ++k) any_frozen = bd[k] != 0;
-  }
-  const std::uint32_t* __restrict body = reinterpret_cast<const std::uint32_t*>(p.body.data());
+  const bool any_frozen = !Pass::kSymmetric && any_frozen_particle(p);
 
 #pragma omp parallel num_threads(nthreads)
   {
     const int t = omp_get_thread_num();
     std::vector<std::int64_t>& bufv = ws.buffers[static_cast<std::size_t>(t)];
-    // Buffers are left all zero by the reduction below, which clears each entry as it reads it (the
-    // cache line is already there), so only entries added by growth need zeroing here.
+    // Buffers are left all zero by the reduction, so only entries added by growth need zeroing here.
     // A buffer only grows: entries past C * ntot stay zero too (passes with 1 and 3 components alternate).
     if (bufv.size() < C * ntot) bufv.resize(C * ntot, 0);
-    std::int64_t* buf = bufv.data();
-    PairBatch& b = *ws.batches[static_cast<std::size_t>(t)];
-    b.m = 0;
-    std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const double* __restrict x = p.x.data();
-    const double* __restrict y = p.y.data();
-    const double* __restrict z = p.z.data();
-    const double* __restrict vx = p.vx.data();
-    const double* __restrict vy = p.vy.data();
-    const double* __restrict vz = p.vz.data();
-    const std::uint32_t* __restrict id = p.id.data();
-    const BatchGeometry geo{x, y, z, vx, vy, vz, id, ilx, ily, ilz, hlx, hly, hlz, seed, kind, step};
-
-    // Evaluate and scatter every pair in the batch. Each pass is a simple loop over arrays.
-    auto flush = [&] {
-      const std::size_t m = b.m;
-      evaluate_batch(b, m, pass, geo, local);
-      // Pass 4: scatter (integer adds: the order does not matter). The pairs of one particle i are
-      // consecutive in the batch, so i's share is summed in registers and added once per run.
-      if constexpr (C == 3) {
-        for (std::size_t k = 0; k < m;) {
-          const std::size_t i = b.i[k];
-          std::int64_t sx = 0, sy = 0, sz = 0;
-          for (; k < m && b.i[k] == i; ++k) {
-            const std::size_t j = b.j[k];
-            sx += b.qx[k];
-            sy += b.qy[k];
-            sz += b.qz[k];
-            buf[3 * j] -= b.qx[k];
-            buf[3 * j + 1] -= b.qy[k];
-            buf[3 * j + 2] -= b.qz[k];
-          }
-          buf[3 * i] += sx;
-          buf[3 * i + 1] += sy;
-          buf[3 * i + 2] += sz;
-        }
-      } else {
-        for (std::size_t k = 0; k < m; ++k) {
-          const std::size_t i = b.i[k], j = b.j[k];
-          buf[i] += b.qx[k];
-          buf[j] += Pass::kSymmetric ? b.qx[k] : -b.qx[k];
-        }
-      }
-      b.m = 0;
-    };
-
-    const hn::ScalableTag<double> dd;                 // particle coordinates
-    const hn::Rebind<std::uint32_t, decltype(dd)> du;  // indices, one per coordinate lane
-    const std::size_t nd = hn::Lanes(dd);
-
-    // Marks batch entries [m0, m) as pairs of particle i (see PairBatch::ix).
-    auto spread_i = [&](std::uint32_t i, std::size_t m0, std::size_t m) {
-      const auto px = hn::Set(dd, x[i]), py = hn::Set(dd, y[i]), pz = hn::Set(dd, z[i]);
-      const auto pvx = hn::Set(dd, vx[i]), pvy = hn::Set(dd, vy[i]), pvz = hn::Set(dd, vz[i]);
-      const auto pi = hn::Set(du, i), pid = hn::Set(du, id[i]);
-      for (std::size_t k = m0; k < m; k += nd) {
-        hn::StoreU(px, dd, b.ix + k);
-        hn::StoreU(py, dd, b.iy + k);
-        hn::StoreU(pz, dd, b.iz + k);
-        if constexpr (Pass::kVelocity) {
-          hn::StoreU(pvx, dd, b.ivx + k);
-          hn::StoreU(pvy, dd, b.ivy + k);
-          hn::StoreU(pvz, dd, b.ivz + k);
-        }
-        hn::StoreU(pi, du, b.i + k);
-        hn::StoreU(pid, du, b.iid + k);
-      }
-    };
-
-    // Distance filter of particle i against candidates [k0, k1) of the cell's candidate arrays, which
-    // hold nearest-image coordinates relative to (ox, oy, oz). Survivors are appended to the batch
-    // without branches: a vector of candidates per step, squared distance, compare, and the survivors'
-    // indices packed by a compressing store. The last, partial vector is masked. The filter only
-    // selects (a superset of the pairs in range, see filter2), so its rounding never reaches the result.
-    const hn::ScalableTag<PairReal> dr;
-    const hn::Rebind<std::uint32_t, decltype(dr)> dru;
-    const std::size_t nr_lanes = hn::Lanes(dr);
-    // The keep mask of a vector of coordinates as a mask of the 32-bit indices of the same lanes
-    // (lane sizes differ in double precision, so it goes through its bits).
-    auto index_mask = [&](auto keep) {
-      if constexpr (sizeof(PairReal) == sizeof(std::uint32_t)) {
-        return hn::RebindMask(dru, keep);
-      } else {
-        alignas(8) std::uint8_t bits[8] = {};
-        hn::StoreMaskBits(dr, keep, bits);
-        return hn::LoadMaskBits(dru, bits);
-      }
-    };
-    // Where the instruction set has no compress instruction and a vector holds 4 candidates (AVX2, double
-    // precision), the compress is a table-driven byte shuffle (kCompress4).
-#undef MESODPD_TABLE_COMPRESS
-#if HWY_TARGET == HWY_AVX2 && !defined(MESODPD_SINGLE_PRECISION)
-#define MESODPD_TABLE_COMPRESS 1
-    const hn::Repartition<std::uint8_t, decltype(dru)> du8;
-#else
-#define MESODPD_TABLE_COMPRESS 0
-#endif
-    auto filter = [&](std::uint32_t i, std::size_t k0, std::size_t k1, double ox, double oy, double oz) {
-      constexpr std::size_t kChunk = PairBatch::kCapacity / 2;  // dense cells are taken in chunks
-      const auto lim = hn::Set(dr, filter2);
-      const auto xi = hn::Set(dr, static_cast<PairReal>(x[i] - ox));
-      const auto yi = hn::Set(dr, static_cast<PairReal>(y[i] - oy));
-      const auto zi = hn::Set(dr, static_cast<PairReal>(z[i] - oz));
-      for (std::size_t a = k0; a < k1; a += kChunk) {
-        const std::size_t cnt = std::min(k1, a + kChunk) - a;
-        const PairReal* __restrict cx = b.cand_x.data() + a;
-        const PairReal* __restrict cy = b.cand_y.data() + a;
-        const PairReal* __restrict cz = b.cand_z.data() + a;
-        const std::uint32_t* __restrict cj = b.cand_j.data() + a;
-        const std::uint32_t* __restrict cb = b.cand_body.data() + a;
-        // A frozen i keeps only mobile candidates.
-        const bool frozen_i = any_frozen && body[i] != 0;
-        if (b.m + cnt > PairBatch::kCapacity) flush();
-        const std::size_t m0 = b.m;
-        std::size_t m = m0;
-        // The candidate arrays carry a vector of slack, so whole-vector loads stay inside them.
-        for (std::size_t k = 0; k < cnt; k += nr_lanes) {
-          const auto valid = hn::FirstN(dr, cnt - k);
-          const auto dx = hn::Sub(xi, hn::LoadU(dr, cx + k));
-          const auto dy = hn::Sub(yi, hn::LoadU(dr, cy + k));
-          const auto dz = hn::Sub(zi, hn::LoadU(dr, cz + k));
-          const auto r2 = hn::MulAdd(dz, dz, hn::MulAdd(dy, dy, hn::Mul(dx, dx)));
-          const auto keep = hn::And(valid, hn::Lt(r2, lim));
-#if MESODPD_TABLE_COMPRESS
-          {
-            // 4 candidates: the keep bits select a byte shuffle that packs the kept indices; the whole
-            // vector is stored (b.j has slack) and m advances by the count.
-            alignas(8) std::uint8_t bits[8] = {};
-            hn::StoreMaskBits(dr, keep, bits);
-            unsigned mask = bits[0];
-            if (frozen_i) {
-              alignas(8) std::uint8_t mobile[8] = {};
-              hn::StoreMaskBits(dru, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)), mobile);
-              mask &= mobile[0];
-            }
-            const auto shuffle = hn::Load(du8, kCompress4.idx[mask]);
-            hn::StoreU(hn::BitCast(dru, hn::TableLookupBytes(hn::BitCast(du8, hn::LoadU(dru, cj + k)), shuffle)), dru,
-                       b.j + m);
-            m += static_cast<std::size_t>(hwy::PopCount(mask));
-          }
-#else
-          auto keep_j = index_mask(keep);
-          if (frozen_i) keep_j = hn::And(keep_j, hn::Eq(hn::LoadU(dru, cb + k), hn::Zero(dru)));
-          m += hn::CompressStore(hn::LoadU(dru, cj + k), keep_j, dru, b.j + m);
-#endif
-        }
-        spread_i(i, m0, m);
-        b.m = m;
-      }
-    };
-
+    BatchAccumulator<Pass, kSums> acc(*ws.batches[static_cast<std::size_t>(t)], bufv.data(), pass, geo);
     if (list.cells_only()) {
-      // Cell pairs: particle i against the rest of its own cell and the 13 forward neighbour cells.
-      // The candidates of a cell are gathered once, with periodic shifts applied, own cell first; the
-      // q-th particle of the cell then scans candidates q+1 onwards in one loop.
-      const CellGrid& grid = list.grid();
-      const std::uint32_t* start = list.cell_start().data();
-      const std::size_t ncells = grid.num_owned_cells();  // ghost cells are only partners
-      // Stores a vector of coordinates in the candidate arrays' type.
-      auto store_candidates = [&](auto v, PairReal* dst) {
-        if constexpr (std::is_same_v<PairReal, double>) {
-          hn::StoreU(v, dd, dst);
-        } else {
-          const hn::Rebind<PairReal, decltype(dd)> dc;
-          hn::StoreU(hn::DemoteTo(dc, v), dc, dst);
-        }
-      };
-#pragma omp for schedule(static)
-      for (std::size_t c = 0; c < ncells; ++c) {
-        if (start[c] == start[c + 1]) continue;
-        CellRun runs[CellGrid::kMaxHalfRuns];
-        const int nr = grid.half_runs(static_cast<int>(c), runs);
-        std::size_t total_c = 0;
-        for (int r = 0; r < nr; ++r) total_c += start[runs[r].last + 1] - start[runs[r].first];
-        if (b.cand_x.size() < total_c + PairBatch::kSlack) {  // slack for whole-vector loads and stores
-          b.cand_x.resize(2 * total_c + PairBatch::kSlack);
-          b.cand_y.resize(2 * total_c + PairBatch::kSlack);
-          b.cand_z.resize(2 * total_c + PairBatch::kSlack);
-          b.cand_j.resize(2 * total_c + PairBatch::kSlack);
-          if (any_frozen) b.cand_body.resize(2 * total_c + PairBatch::kSlack);
-        }
-        if (any_frozen && b.cand_body.size() < b.cand_j.size()) b.cand_body.resize(b.cand_j.size());
-        // Candidate coordinates are taken relative to a particle of the cell, so that they are small
-        // numbers whose float rounding (single-precision build) stays far below the filter's margin
-        // however large the box.
-        const double ox = x[start[c]], oy = y[start[c]], oz = z[start[c]];
-        std::size_t mc = 0;
-        for (int r = 0; r < nr; ++r) {
-          const CellRun& e = runs[r];
-          const double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
-          const std::uint32_t j0 = start[e.first], j1 = start[e.last + 1];
-          const auto vsx = hn::Set(dd, sx), vsy = hn::Set(dd, sy), vsz = hn::Set(dd, sz);
-          std::uint32_t j = j0;
-          // A vector at a time into the slack-padded arrays; the (short) run's last partial vector with
-          // a masked load where loads cannot fault, by a scalar loop elsewhere.
-          for (; j + nd <= j1 || (kFaultFreeMaskedLoad && j < j1); j += static_cast<std::uint32_t>(nd)) {
-            const auto valid = hn::FirstN(dd, j1 - j);
-            // (hwy's MaskedLoad wants aligned memory where it is not a fault-free instruction.)
-            auto load = [&](const double* src) {
-              if constexpr (kFaultFreeMaskedLoad)
-                return hn::MaskedLoad(valid, dd, src);
-              else
-                return hn::LoadU(dd, src);
-            };
-            store_candidates(hn::Add(load(x + j), vsx), b.cand_x.data() + mc);
-            store_candidates(hn::Add(load(y + j), vsy), b.cand_y.data() + mc);
-            store_candidates(hn::Add(load(z + j), vsz), b.cand_z.data() + mc);
-            hn::StoreU(hn::Iota(du, j), du, b.cand_j.data() + mc);
-            if (any_frozen) {
-              const auto valid_u = hn::FirstN(du, j1 - j);
-              if constexpr (kFaultFreeMaskedLoad)
-                hn::StoreU(hn::MaskedLoad(valid_u, du, body + j), du, b.cand_body.data() + mc);
-              else
-                hn::StoreU(hn::LoadU(du, body + j), du, b.cand_body.data() + mc);
-            }
-            mc += std::min<std::size_t>(nd, j1 - j);
-          }
-          for (; j < j1; ++j, ++mc) {
-            if (any_frozen) b.cand_body[mc] = body[j];
-            b.cand_x[mc] = static_cast<PairReal>(x[j] + sx);
-            b.cand_y[mc] = static_cast<PairReal>(y[j] + sy);
-            b.cand_z[mc] = static_cast<PairReal>(z[j] + sz);
-            b.cand_j[mc] = j;
-          }
-        }
-        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) filter(i, i - start[c] + 1, mc, ox, oy, oz);
-      }
+      CandidateFilter filter(acc, p, filter2, any_frozen);
+      traverse_cell_pairs(list, p, box, any_frozen, acc.batch(), filter);
     } else {
-      const std::uint32_t* off = list.offsets().data();
-      const std::uint32_t* nbr = list.neighbors().data();
-#pragma omp for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) {
-        for (std::uint32_t k = off[i]; k < off[i + 1];) {
-          if (b.m == PairBatch::kCapacity) flush();
-          const std::size_t m0 = b.m;
-          const std::size_t take = std::min<std::size_t>(off[i + 1] - k, PairBatch::kCapacity - m0);
-          std::size_t m = m0;
-          if (any_frozen && body[i] != 0) {
-            for (std::size_t q = 0; q < take; ++q) {
-              b.j[m] = nbr[k + q];
-              m += body[nbr[k + q]] == 0 ? 1 : 0;
-            }
-          } else {
-            for (std::size_t q = 0; q < take; ++q) b.j[m0 + q] = nbr[k + q];
-            m = m0 + take;
-          }
-          k += static_cast<std::uint32_t>(take);
-          b.m = m;
-          spread_i(static_cast<std::uint32_t>(i), m0, b.m);
-        }
-      }
+      traverse_verlet(list, n, reinterpret_cast<const std::uint32_t*>(p.body.data()), any_frozen, acc);
     }
-    flush();
-    if constexpr (kSums) {
-#pragma omp critical
-      for (int q = 0; q < 9; ++q) total[q] += local[q];  // integer sums: order does not matter
-    }
+    acc.finish(job.totals);
 #pragma omp barrier
-    // Reduce the per-thread buffers; integer addition makes the result thread-count independent.
-    if (!ghosts) {
-      // Straight into the outputs: forces, or the density array.
-#pragma omp for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) {
-        std::int64_t s[C] = {};
-        for (int u = 0; u < nthreads; ++u) {
-          std::int64_t* bu = ws.buffers[static_cast<std::size_t>(u)].data();
-          for (int q = 0; q < C; ++q) {
-            s[q] += bu[C * i + q];
-            bu[C * i + q] = 0;
-          }
-        }
-        if constexpr (C == 3) {
-          p.fx[i] = static_cast<double>(s[0]) * kForceUnscale;
-          p.fy[i] = static_cast<double>(s[1]) * kForceUnscale;
-          p.fz[i] = static_cast<double>(s[2]) * kForceUnscale;
-        } else {
-          job.out[i] = static_cast<double>(s[0]) * kForceUnscale;
-        }
-      }
-    } else {
-      // With ghosts, the integer totals of ghosts go back to their owners before the conversion.
-#pragma omp for schedule(static)
-      for (std::size_t k = 0; k < C * ntot; ++k) {
-        std::int64_t s = 0;
-        for (int u = 0; u < nthreads; ++u) {
-          s += ws.buffers[static_cast<std::size_t>(u)][k];
-          ws.buffers[static_cast<std::size_t>(u)][k] = 0;
-        }
-        ws.fixed[k] = s;
-      }
-    }
+    reduce_thread_buffers<C>(ws, nthreads, n, ntot, ghosts, p, job.out);
   }
 }
 
@@ -881,6 +965,10 @@ std::vector<std::int64_t> ForceCompute::simd_targets() {
   return out;
 }
 
+std::unique_ptr<PairBackend> make_pair_backend(PairLawTables laws, NoiseSettings noise) {
+  return std::make_unique<ForceCompute>(std::move(laws), noise);
+}
+
 ForceCompute::ForceCompute(PairLawTables laws, NoiseSettings noise)
     : laws_(std::move(laws)), noise_(noise), ws_(std::make_unique<PairWorkspace>()) {}
 ForceCompute::~ForceCompute() = default;
@@ -949,9 +1037,11 @@ void ForceCompute::subtract_pairs(ParticleData& p, const Box& box, std::span<con
 }
 
 void ForceCompute::compute_density(ParticleData& p, const Box& box, const NeighborList& list,
-                                   const DensitySettings& density, std::vector<double>& rho, Halo* halo) {
+                                   const DensitySettings& density, std::span<double> rho, Halo* halo) {
   apply_simd_cap();
-  rho.resize(p.size());
+  if (rho.size() < p.size())
+    throw std::invalid_argument("ForceCompute::compute_density: rho has " + std::to_string(rho.size()) +
+                                " entries for " + std::to_string(p.size()) + " stored particles");
   PairJob job;
   job.p = &p;
   job.box = &box;

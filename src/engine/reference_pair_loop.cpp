@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "engine/fixed_point.hpp"
+#include "engine/pair_contribution.hpp"
 
 namespace mesodpd {
 
@@ -141,22 +142,15 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
               in.rho_j = rho[j];
             }
             const PairForceT<double> pf = eval(pp, in);
-            const double scale = (pf.fc + pf.fd + pf.fr) * inv_r;
-            const double fv[3] = {scale * dx, scale * dy, scale * dz};
-            for (int c = 0; c < 3; ++c) {
-              const std::int64_t v = to_fixed(fv[c], kForceScale);
-              q[i][static_cast<std::size_t>(c)] += v;
-              q[j][static_cast<std::size_t>(c)] -= v;
-            }
-            total[0] += to_fixed(dx * fv[0], kVirialScale);
-            total[1] += to_fixed(dy * fv[1], kVirialScale);
-            total[2] += to_fixed(dz * fv[2], kVirialScale);
-            total[3] += to_fixed(dx * fv[1], kVirialScale);
-            total[4] += to_fixed(dx * fv[2], kVirialScale);
-            total[5] += to_fixed(dy * fv[2], kVirialScale);
-            total[6] += to_fixed(pf.fc * r, kVirialScale);
-            total[7] += to_fixed(pf.energy, kVirialScale);
-            total[8] += r * r < pp.rcut2 ? 1 : 0;
+            const PairForceVector fv = pair_force_vector(pf, inv_r, dx, dy, dz);
+            const PairForceFixed fq = to_fixed(fv);
+            q[i][0] += fq.x;
+            q[i][1] += fq.y;
+            q[i][2] += fq.z;
+            q[j][0] -= fq.x;
+            q[j][1] -= fq.y;
+            q[j][2] -= fq.z;
+            add_pair_sums(total, pf, fv, r, dx, dy, dz, pp.rcut2);
           });
         });
       },

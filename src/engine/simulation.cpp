@@ -71,12 +71,12 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     : spec_(std::move(spec)),
       options_(std::move(options)),
       nlist_(NeighborSettings{}),
-      forces_(make_pair_laws(spec_),
-              NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform}) {
+      forces_(make_pair_backend(make_pair_laws(spec_),
+                                NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform})) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
   density_ = make_density_settings(spec_);
   // Cells (and so ghost layers) also reach as far as the longest bond allowed (bonds.reach).
-  nlist_ = NeighborList(NeighborSettings{std::max(forces_.max_cutoff(), spec_.bond_reach),
+  nlist_ = NeighborList(NeighborSettings{std::max(forces_->max_cutoff(), spec_.bond_reach),
                                          spec_.neighbor == NeighborMethod::Verlet ? spec_.skin : 0.0, true});
   if (spec_.integrator == IntegratorKind::GrootWarren)
     integrator_ = GrootWarrenIntegrator{spec_.lambda};
@@ -95,7 +95,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   box_.periodic = spec_.periodic;
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
   auto check_box = [&] {
-    const double two_rc = 2 * forces_.max_cutoff();
+    const double two_rc = 2 * forces_->max_cutoff();
     if (box_.len.x < two_rc || box_.len.y < two_rc || box_.len.z < two_rc)
       throw ConfigError("system.box: every box length must be at least twice the largest cutoff");
   };
@@ -151,8 +151,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   if (spec_.droplet.enabled) {
     // The droplet's local pressures: the run's force law on a subset of particles, by the reference
     // loop (serial, in index order, so the result depends on neither threads nor ranks).
-    observer_settings.interaction_range = forces_.max_cutoff() + (density_ ? density_->table.max_cutoff : 0.0);
-    observer_settings.local_virial = make_local_virial(forces_.laws(), density_);
+    observer_settings.interaction_range = forces_->max_cutoff() + (density_ ? density_->table.max_cutoff : 0.0);
+    observer_settings.local_virial = make_local_virial(forces_->laws(), density_);
   }
   if (spec_.stress_profile.enabled) {
     // The stress profile's virial terms: the run's pair law by the reference loop (with densities over
@@ -164,7 +164,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       ExcludedPair excluded;
       if (bonds_.excluded_pairs() > 0)
         excluded = [this](std::uint32_t a, std::uint32_t b) { return bonds_.excluded(a, b); };
-      reference_conservative_virial_terms(all, box, forces_.laws(), terms, density_ ? rho.data() : nullptr, excluded);
+      reference_conservative_virial_terms(all, box, forces_->laws(), terms, density_ ? rho.data() : nullptr, excluded);
       bonds_.virial_terms(all, box, terms);
     };
   }
@@ -210,7 +210,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     // Flows between walls stream: the temperature of the velocities relative to the mean velocity of
     // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too). At most
     // ~65,536 bins (wider bins in large boxes), so that a thermo row's integer sums stay small.
-    const double bin_width = std::max(forces_.max_cutoff(), std::cbrt(box_.volume() / 65536.0));
+    const double bin_width = std::max(forces_->max_cutoff(), std::cbrt(box_.volume() / 65536.0));
     std::array<int, 3> bins{};
     for (int d = 0; d < 3; ++d)
       bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / bin_width));
@@ -289,7 +289,7 @@ void Simulation::make_bonded(Topology topology) {
                                     "angle type without parameters)", a.a, a.b, a.c, a.type + 1, at.size()));
   }
   bonds_ = BondedForces(std::move(topology), std::move(bt), std::move(at),
-                        std::max(spec_.bond_reach, forces_.max_cutoff()), max_id, spec_.bond_exclusion);
+                        std::max(spec_.bond_reach, forces_->max_cutoff()), max_id, spec_.bond_exclusion);
 }
 
 void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bool only_fast) {
@@ -298,8 +298,8 @@ void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bo
   const PairSubtractor subtract = [&](std::span<const std::uint32_t> pairs, std::int64_t* fixed, std::int64_t* totals) {
     // Many-body laws read the local densities of this step's density pass (locals and ghosts, the same
     // storage order as the pairs' indices).
-    forces_.subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals,
-                           density_ ? rho_.data() : nullptr);
+    forces_->subtract_pairs(p_, box_, pairs, step_, spec_.dt, with_sums, fixed, totals,
+                            density_ ? rho_.data() : nullptr);
   };
   const double t0 = omp_get_wtime();
   const std::optional<BondProblem> problem =
@@ -334,7 +334,7 @@ void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bo
 void Simulation::compute_forces(bool with_sums) {
   // A many-body law first needs every particle's local density (ghosts included), then the force pass.
   const double* rho = compute_density();
-  forces_.compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
+  forces_->compute(p_, box_, nlist_, step_, spec_.dt, with_sums, sums_, &halo_, rho);
   // With subcycles, the bonded forces go to fast_ for the inner steps of the next step.
   add_bonded_forces(with_sums, spec_.bond_subcycles > 1 ? &fast_ : nullptr);
   sums_valid_ = with_sums;
@@ -416,7 +416,8 @@ void Simulation::subcycle_bonded_forces() {
 
 const double* Simulation::compute_density() {
   if (!density_) return nullptr;
-  forces_.compute_density(p_, box_, nlist_, *density_, rho_, &halo_);
+  rho_.resize(p_.size());  // locals and ghosts; the backend fills it, it does not size it
+  forces_->compute_density(p_, box_, nlist_, *density_, rho_, &halo_);
   const auto [rho, id] = densest_particle();
   if (rho > spec_.max_density)
     throw BlowUpError(step_, id,
@@ -527,7 +528,7 @@ ThermoState Simulation::thermo() {
     thermo_forces_[1] = p_.fy;
     thermo_forces_[2] = p_.fz;
     const double* rho = compute_density();  // positions unchanged: the same densities as the step's
-    forces_.compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
+    forces_->compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
     add_bonded_forces(true);
     thermo_forces_[0].swap(p_.fx);
     thermo_forces_[1].swap(p_.fy);

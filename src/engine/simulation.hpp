@@ -18,7 +18,7 @@
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
 #include "engine/bonded_forces.hpp"
-#include "engine/force_compute.hpp"
+#include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -141,7 +141,7 @@ class Simulation {
   ParticleData p_;
   NeighborList nlist_;
   Halo halo_;
-  ForceCompute forces_;
+  std::unique_ptr<PairBackend> forces_;  // the pair stages (engine/pair_backend.hpp)
   BondedForces bonds_;
   IntegratorVariant integrator_;
   std::vector<double> mass_, inv_mass_;

@@ -300,7 +300,7 @@ void Halo::update_ghosts(ParticleData& p) {
       [&](const std::byte* in, std::size_t s) { p.unpack<field::kRefresh>(in, s); });
 }
 
-void Halo::forward_field(ParticleData& p, std::vector<double>& f) {
+void Halo::forward_field(ParticleData& p, std::span<double> f) {
   if (!active()) return;
   if (f.size() < p.size())
     throw std::runtime_error(fmt::format("halo: forward_field got {} values for {} particles", f.size(), p.size()));

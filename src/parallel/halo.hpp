@@ -45,7 +45,7 @@ class Halo {
   // ghosts; at least p.size() entries) to their ghost copies, along the send lists of the last
   // build_ghosts: for a quantity computed on the locals between neighbour builds (a local density)
   // that a later pair pass reads on ghosts too. A no-op when the halo is inactive. Collective.
-  void forward_field(ParticleData& p, std::vector<double>& field);
+  void forward_field(ParticleData& p, std::span<double> field);
   // Adds the fixed-point forces accumulated on ghosts (f3: x, y, z per particle, local and ghost) to
   // their owners' entries. Integer sums: the result does not depend on the order of arrival.
   void reverse_forces(std::int64_t* f3, const ParticleData& p) { reverse_sums(f3, 3, p); }

@@ -49,8 +49,8 @@ int main(int argc, char** argv) {
   ds.table.params.assign(static_cast<std::size_t>(ds.table.n_species * ds.table.n_species), {0.75, 0.75 * 0.75});
   ds.table.max_cutoff = 0.75;
   ForceCompute pass(make_pair_laws(spec), NoiseSettings{});
-  std::vector<double> rho;
   ParticleData& p = sim.particles();
+  std::vector<double> rho(p.size());  // locals and ghosts
   pass.compute_density(p, sim.box(), sim.neighbor_list(), ds, rho, &sim.halo());
 
   const Comm& comm = sim.halo().comm();

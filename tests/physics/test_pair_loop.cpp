@@ -11,6 +11,7 @@
 #include <cmath>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -142,9 +143,10 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
             ParticleData p = start;
             NeighborList list(NeighborSettings{max_cutoff(laws), skin, true});
             list.build(p, box);
-            ForceCompute fc(laws, NoiseSettings{99, noise});
-            std::vector<double> rho;
-            if (density) fc.compute_density(p, box, list, *density, rho);
+            ForceCompute cpu(laws, NoiseSettings{99, noise});
+            PairBackend& fc = cpu;  // as the engine holds it (engine/pair_backend.hpp)
+            std::vector<double> rho(p.size());  // the caller sizes it (locals and ghosts)
+            if (density) fc.compute_density(p, box, list, *density, rho, nullptr);
             // Forces alone (the usual step: vector fixed-point conversion), then forces with the sums
             // (thermo steps: scalar conversion); both must give the reference's forces.
             PairSums sums;
@@ -225,7 +227,7 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
       EXPECT_GT(clamped, 10);
       ForceCompute fc(laws, NoiseSettings{5, NoiseKind::Uniform});
       PairSums sums;
-      fc.compute(p, box, list, 3, 0.04, with_sums, sums);
+      fc.compute(p, box, list, 3, 0.04, with_sums, sums, nullptr, nullptr);
       const std::string what = std::string(hwy::TargetName(target)) + (with_sums ? " with sums" : "");
       std::vector<double> got;
       for (std::size_t i = 0; i < p.n_local; ++i) got.insert(got.end(), {p.fx[i], p.fy[i], p.fz[i]});
@@ -298,8 +300,11 @@ TEST(PairLoop, DensityPassEqualsBruteForceSum) {
           NeighborList list(NeighborSettings{1.0, skin, true});  // a list longer than r_d is fine
           list.build(p, box);
           ForceCompute fc(make_pair_laws(three_species(PairStyle::Dpd, 2.0)), NoiseSettings{});
-          std::vector<double> rho;
-          fc.compute_density(p, box, list, ds, rho);
+          std::vector<double> rho(p.size());
+          fc.compute_density(p, box, list, ds, rho, nullptr);
+          // The caller sizes the array (locals and ghosts); a short one is refused, not overrun.
+          std::vector<double> short_rho(p.size() - 1);
+          EXPECT_THROW(fc.compute_density(p, box, list, ds, short_rho, nullptr), std::invalid_argument);
           std::vector<double> ref;
           reference_density(p, box, ds, ref);
           const std::string what = std::string(kind == DensityKernelKind::Warren ? "warren " : "lucy ") +
