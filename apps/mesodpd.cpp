@@ -4,10 +4,12 @@
 
 #include <CLI/CLI.hpp>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <new>
 #include <optional>
 #include <stdexcept>
@@ -28,10 +30,26 @@ namespace {
 constexpr int kExitConfig = 2;
 constexpr int kExitBlowUp = 3;
 
-int run_command(const std::string& config, const std::string& out, int threads, std::optional<std::int64_t> steps,
+// The value of --steps as a step number. Read as text here because CLI11 clamps an integer that does not
+// fit to the type's limit without a word; a step count out of range must be refused instead. The limit
+// is that of run.steps, a TOML integer (signed 64-bit).
+std::uint64_t parse_steps(const std::string& text) {
+  constexpr std::uint64_t kMax = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+  std::uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  const bool negative = !text.empty() && text[0] == '-';
+  const auto [ptr, ec] = std::from_chars(text.data() + (negative ? 1 : 0), end, v);
+  if (ptr == text.data() + (negative ? 1 : 0) || ptr != end)
+    throw mesodpd::ConfigError(fmt::format("--steps: '{}' is not a whole number of steps", text));
+  if (negative && v != 0) throw mesodpd::ConfigError(fmt::format("--steps: {} is negative", text));
+  if (ec == std::errc::result_out_of_range || v > kMax)
+    throw mesodpd::ConfigError(fmt::format("--steps: {} is too large (at most {})", text, kMax));
+  return v;
+}
+
+int run_command(const std::string& config, const std::string& out, int threads, std::optional<std::uint64_t> steps,
                 const std::string& restart, bool no_progress) {
   using namespace mesodpd;
-  if (steps && *steps < 0) throw ConfigError(fmt::format("--steps: {} is negative", *steps));
   if (threads < 0 || threads > kMaxThreads)
     throw ConfigError(fmt::format("--threads: {} is out of range (0 to {})", threads, kMaxThreads));
   SimulationSpec spec = load_config(config);  // validated: what `check` accepts up to here, run accepts too
@@ -39,7 +57,7 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   omp_set_num_threads(nthreads);
   RunOptions opt;
   opt.out_dir = out;
-  if (steps) opt.steps = static_cast<std::uint64_t>(*steps);
+  if (steps) opt.steps = *steps;
   if (!restart.empty()) {
     if (!std::filesystem::exists(restart)) throw ConfigError(fmt::format("--restart: file {} does not exist", restart));
     opt.restart = restart;
@@ -136,7 +154,7 @@ int main(int argc, char** argv) {
 
   std::string config, out = "out", restart;
   int threads = 0;
-  std::int64_t steps = 0;
+  std::string steps;
   bool no_progress = false;
   auto* run = app.add_subcommand("run", "run a simulation");
   run->add_option("config", config, "TOML configuration file")->required();
@@ -189,8 +207,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run) {
-      std::optional<std::int64_t> steps_override;
-      if (run->count("--steps") > 0) steps_override = steps;
+      std::optional<std::uint64_t> steps_override;
+      if (run->count("--steps") > 0) steps_override = parse_steps(steps);
       return run_command(config, out, threads, steps_override, restart, no_progress);
     }
     if (*check) {

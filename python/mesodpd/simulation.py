@@ -9,34 +9,63 @@ from .spec import Spec
 
 __all__ = ["Simulation", "LocalParticles"]
 
+# The largest step number: run.steps is a TOML integer (signed 64-bit), as is `mesodpd run --steps`.
+_MAX_STEP = 2**63 - 1
+
 _FIELDS = ("id", "species", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "ix", "iy", "iz")
 
 
 class LocalParticles:
-    """Zero-copy, read-only numpy views of the particles this MPI rank owns, in storage order.
+    """The particles this MPI rank owns, in storage order, as read-only numpy arrays.
 
     Each attribute (``id``, ``species``, ``x``, ``y``, ``z``, ``vx``, ``vy``, ``vz``, ``fx``,
-    ``fy``, ``fz``, ``ix``, ``iy``, ``iz``) returns a view of the engine's own array at the moment
-    you ask. The engine re-sorts particles by cell at every step and may move them to other
-    buffers, so an array taken before a step must not be used after it: ask again (this object
-    stays valid and always gives the current state). ``position``, ``velocity``, ``force`` and
-    ``image`` are (N, 3) copies. Storage order is not id order: use ``id`` or Simulation.snapshot().
+    ``fy``, ``fz``, ``ix``, ``iy``, ``iz``) is a read-only array that owns a copy of the engine's
+    array at the current step. The copy is made at the first read after a step and shared by the
+    reads that follow until the next step, so reading ``sim.particles.x[i]`` in a loop copies once.
+    An array kept across a step stays valid and still holds the state of the step it was read at.
+
+    ``view(name)`` gives a zero-copy view of the engine's memory instead; the simulation refuses to
+    step (RuntimeError) while such a view is referenced, because a step may move or free that memory.
+    ``position``, ``velocity``, ``force`` and ``image`` are (N, 3) copies. Storage order is not id
+    order: use ``id`` or Simulation.snapshot().
     """
 
     def __init__(self, sim):
         self._sim = sim
+        self._cache = {}
+        self._version = None
 
     def __len__(self):
-        return len(self._sim._core.local_view("id"))
+        return self._sim._core.local_count()
 
     def __getattr__(self, name):
         if name in _FIELDS:
-            return self._sim._core.local_view(name)
+            return self._copy(name)
         raise AttributeError(f"LocalParticles has no attribute {name!r}; fields: {', '.join(_FIELDS)}")
 
+    def _copy(self, name):
+        version = self._sim._core.state_version()
+        if version != self._version:
+            self._cache = {}
+            self._version = version
+        a = self._cache.get(name)
+        if a is None:
+            a = self._cache[name] = self._sim._core.local_copy(name)
+        return a
+
+    def view(self, name):
+        """A zero-copy, read-only view of the engine's own array ``name`` (no data is copied).
+
+        It is valid only until the next step, and the simulation enforces that: step() and run() raise
+        RuntimeError while any view is still referenced. Delete it (``del v``) or copy what you need
+        (``numpy.array(v)``) before advancing.
+        """
+        if name not in _FIELDS:
+            raise KeyError(f"no particle array {name!r}; fields: {', '.join(_FIELDS)}")
+        return self._sim._core.local_view(name)
+
     def _stack(self, a, b, c):
-        v = self._sim._core.local_view
-        return np.stack([v(a), v(b), v(c)], axis=1)
+        return np.stack([self._copy(a), self._copy(b), self._copy(c)], axis=1)
 
     @property
     def position(self):
@@ -85,9 +114,9 @@ class Simulation:
             from . import set_threads
             set_threads(threads)
         validated = self._spec._validated()
-        if steps is not None and int(steps) < 0:
+        if steps is not None and not 0 <= int(steps) <= _MAX_STEP:
             from .errors import SpecError
-            raise SpecError(f"steps = {steps}: must be >= 0", "run.steps")
+            raise SpecError(f"steps = {steps}: must be an integer from 0 to {_MAX_STEP}", "run.steps")
         self.out = os.fspath(out) if out is not None else None
         self._core = _core.Simulation(validated, self.out or "", os.fspath(restart) if restart else "",
                                       None if steps is None else int(steps), bool(progress), bool(record))
@@ -164,8 +193,8 @@ class Simulation:
     def step(self, steps=1):
         """Advance ``steps`` time steps (callbacks fire) without finishing. Returns False if a callback
         stopped it."""
-        if int(steps) < 0:
-            raise ValueError(f"steps = {steps}: must be >= 0")
+        if not 0 <= int(steps) <= _MAX_STEP - self.current_step:
+            raise ValueError(f"steps = {steps}: must be >= 0 and end at step {_MAX_STEP} at most")
         return self._advance_to(self.current_step + int(steps))
 
     def _advance_to(self, target):
@@ -197,9 +226,9 @@ class Simulation:
         others). Returns None when a callback stopped the run or final_step was not reached (call
         finish() to write the summaries at any step).
         """
+        if steps is not None and not 0 <= int(steps) <= _MAX_STEP - self.current_step:
+            raise ValueError(f"steps = {steps}: must be >= 0 and end at step {_MAX_STEP} at most")
         target = self.final_step if steps is None else self.current_step + int(steps)
-        if steps is not None and int(steps) < 0:
-            raise ValueError(f"steps = {steps}: must be >= 0")
         if not self._advance_to(target):
             return None
         if self.current_step >= self.final_step:

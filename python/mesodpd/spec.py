@@ -60,6 +60,10 @@ class Spec:
                 text = f.read()
         except OSError as e:
             raise _core_error(f"{path}: cannot read config file: {e.strerror}") from None
+        except UnicodeDecodeError as e:
+            # TOML is UTF-8 text; a binary file (a checkpoint, an image) is a config problem, not a crash.
+            raise _core_error(f"{path}: not a TOML file: byte 0x{e.object[e.start]:02x} at offset {e.start} "
+                              "is not UTF-8 text") from None
         return cls._from_text(text, path)
 
     @classmethod

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <limits>
 #include <sstream>
 #include <toml++/toml.h>
 
@@ -66,7 +67,17 @@ void insert(toml::table& t, const std::string& key, py::handle v, const std::str
   if (py::isinstance<py::bool_>(v)) {
     t.insert_or_assign(key, v.cast<bool>());
   } else if (py::isinstance<py::int_>(v)) {
-    t.insert_or_assign(key, v.cast<std::int64_t>());
+    // TOML integers are signed 64-bit: a larger Python int is refused with its key, not clamped.
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0 || (n == -1 && PyErr_Occurred())) {
+      PyErr_Clear();
+      throw ConfigError(path + " = " + std::string(py::str(v)) + ": too large for a TOML integer (" +
+                            std::to_string(std::numeric_limits<std::int64_t>::min()) + " to " +
+                            std::to_string(std::numeric_limits<std::int64_t>::max()) + ")",
+                        path);
+    }
+    t.insert_or_assign(key, static_cast<std::int64_t>(n));
   } else if (py::isinstance<py::float_>(v)) {
     t.insert_or_assign(key, v.cast<double>());
   } else if (py::isinstance<py::str>(v)) {
@@ -114,11 +125,20 @@ std::string dict_to_toml(const py::dict& d) {
 
 // ---- numpy helpers ------------------------------------------------------------------------------
 
-// A read-only numpy view of `data` whose base keeps `owner` alive.
+// A read-only numpy view of `data` whose base is `owner` (kept alive by the array).
 template <class T>
 py::array view(std::span<const T> data, py::handle owner) {
   py::array_t<T> a({static_cast<py::ssize_t>(data.size())}, {static_cast<py::ssize_t>(sizeof(T))}, data.data(),
                    owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+// A read-only numpy array that owns a copy of `data`.
+template <class T>
+py::array frozen_copy(std::span<const T> data) {
+  py::array_t<T> a(static_cast<py::ssize_t>(data.size()));
+  if (!data.empty()) std::memcpy(a.mutable_data(), data.data(), data.size() * sizeof(T));
   a.attr("flags").attr("writeable") = false;
   return a;
 }
@@ -185,8 +205,24 @@ py::dict history_dict(const std::vector<api::Thermo>& rows) {
 
 // ---- the simulation -----------------------------------------------------------------------------
 
+// The base object of a zero-copy particle view (PySimulation::view): holds the simulation alive for as
+// long as the view is, and its weak reference tells step() that a view of the engine's memory exists.
+struct ViewToken {
+  py::object owner;  // the Python Simulation object whose arrays the view reads
+  std::string field;
+  std::uint64_t step = 0;
+};
+
 struct PySimulation {
   api::Simulation sim;
+  // Advanced before every single step: a copy of the particle arrays made at an older version is of an
+  // older state (LocalParticles caches its copies by it).
+  std::uint64_t version = 0;
+  // True while a step runs without the GIL: the arrays are then being rewritten and possibly reallocated,
+  // so another Python thread must not read them.
+  bool stepping = false;
+  std::vector<py::weakref> views;  // tokens of the zero-copy views handed out (dead ones pruned lazily)
+
   PySimulation(const SimulationSpec& spec, const std::string& out, const std::string& restart,
                std::optional<std::uint64_t> final_step, bool progress, bool record)
       : sim(spec, [&] {
@@ -198,7 +234,68 @@ struct PySimulation {
           o.record = record;
           return o;
         }()) {}
+
+  void refuse_while_stepping(const char* what) const {
+    if (stepping)
+      throw std::runtime_error(std::string(what) + ": the simulation is advancing in another thread; read the "
+                                                   "particles between steps");
+  }
+
+  // The engine may reallocate or reorder every particle array in a step, so it must not step while a
+  // zero-copy view of them is still referenced: that view would read freed or reused memory.
+  void refuse_live_views() {
+    auto prune = [this] {
+      std::erase_if(views, [](const py::weakref& w) { return w().is_none(); });
+    };
+    prune();
+    if (views.empty()) return;
+    py::module_::import("gc").attr("collect")();  // views kept only by garbage cycles do not count
+    prune();
+    if (views.empty()) return;
+    const ViewToken& t = views.front()().cast<const ViewToken&>();
+    throw std::runtime_error(
+        "a zero-copy view sim.particles.view('" + t.field + "') taken at step " + std::to_string(t.step) +
+        " is still referenced (" + std::to_string(views.size()) +
+        " view(s) in all); stepping would leave it reading memory the engine reuses or frees. Delete it (del), "
+        "or copy it (numpy.array(v)), before advancing; sim.particles." + t.field +
+        " gives a copy that stays valid");
+  }
+
+  // Advances n steps one at a time: between two steps the GIL is taken back so that Ctrl-C (SIGINT) and
+  // other signals are handled at once, as KeyboardInterrupt, instead of after the whole run.
+  void advance(std::uint64_t n) {
+    for (std::uint64_t k = 0; k < n; ++k) {
+      refuse_live_views();
+      ++version;
+      {
+        stepping = true;
+        struct Done {
+          bool& flag;
+          ~Done() { flag = false; }
+        } done{stepping};
+        py::gil_scoped_release release;
+        sim.step(1);
+      }
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    }
+  }
 };
+
+// The named particle array of this rank's owned particles, passed to `f` as a span.
+template <class F>
+decltype(auto) with_field(const api::Particles& p, const std::string& name, F&& f) {
+  if (name == "id") return f(p.id);
+  if (name == "species") return f(p.species);
+  const std::pair<const char*, std::span<const double>> reals[] = {
+      {"x", p.x}, {"y", p.y}, {"z", p.z}, {"vx", p.vx}, {"vy", p.vy}, {"vz", p.vz}, {"fx", p.fx}, {"fy", p.fy},
+      {"fz", p.fz}};
+  for (const auto& [n, v] : reals)
+    if (name == n) return f(v);
+  const std::pair<const char*, std::span<const std::int32_t>> images[] = {{"ix", p.ix}, {"iy", p.iy}, {"iz", p.iz}};
+  for (const auto& [n, v] : images)
+    if (name == n) return f(v);
+  throw py::key_error("no particle array '" + name + "'");
+}
 
 py::dict spec_summary(const SimulationSpec& s) {
   py::dict d;
@@ -302,15 +399,17 @@ PYBIND11_MODULE(_core, m) {
   m.def("set_threads", [](int n) { omp_set_num_threads(n); }, py::arg("n"));
   m.def("max_threads", [] { return omp_get_max_threads(); });
 
+  py::class_<ViewToken>(m, "_ViewToken", "base object of a zero-copy particle view (LocalParticles.view)")
+      .def_property_readonly("field", [](const ViewToken& t) { return t.field; })
+      .def_property_readonly("step", [](const ViewToken& t) { return t.step; });
+
   py::class_<PySimulation>(m, "Simulation")
       .def(py::init<const SimulationSpec&, const std::string&, const std::string&, std::optional<std::uint64_t>, bool,
                     bool>(),
            py::arg("spec"), py::arg("out"), py::arg("restart"), py::arg("final_step"), py::arg("progress"),
            py::arg("record"))
-      .def("step", [](PySimulation& s, std::uint64_t n) {
-        py::gil_scoped_release release;
-        s.sim.step(n);
-      })
+      .def("step", &PySimulation::advance, py::arg("steps"))
+      .def("state_version", [](const PySimulation& s) { return s.version; })
       .def("finish", [](PySimulation& s) { return s.sim.finish(); })
       .def("current_step", [](const PySimulation& s) { return s.sim.current_step(); })
       .def("final_step", [](const PySimulation& s) { return s.sim.final_step(); })
@@ -323,21 +422,25 @@ PYBIND11_MODULE(_core, m) {
       .def("thermo", [](PySimulation& s) { return thermo_dict(s.sim.thermo()); })
       .def("thermo_history", [](const PySimulation& s) { return history_dict(s.sim.thermo_history()); })
       .def("write_checkpoint", [](const PySimulation& s, const std::string& f) { s.sim.write_checkpoint(f); })
+      .def("local_count",
+           [](const PySimulation& s) {
+             s.refuse_while_stepping("len(particles)");
+             return s.sim.particles().id.size();
+           })
+      .def("local_copy",
+           [](const PySimulation& s, const std::string& name) -> py::array {
+             s.refuse_while_stepping("particles");
+             return with_field(s.sim.particles(), name, [](auto span) { return frozen_copy(span); });
+           })
       .def("local_view",
            [](py::object self, const std::string& name) -> py::array {
-             const api::Particles p = self.cast<PySimulation&>().sim.particles();
-             if (name == "id") return view(p.id, self);
-             if (name == "species") return view(p.species, self);
-             const std::pair<const char*, std::span<const double>> reals[] = {
-                 {"x", p.x}, {"y", p.y}, {"z", p.z}, {"vx", p.vx}, {"vy", p.vy}, {"vz", p.vz},
-                 {"fx", p.fx}, {"fy", p.fy}, {"fz", p.fz}};
-             for (const auto& [n, v] : reals)
-               if (name == n) return view(v, self);
-             const std::pair<const char*, std::span<const std::int32_t>> images[] = {
-                 {"ix", p.ix}, {"iy", p.iy}, {"iz", p.iz}};
-             for (const auto& [n, v] : images)
-               if (name == n) return view(v, self);
-             throw py::key_error("no particle array '" + name + "'");
+             PySimulation& s = self.cast<PySimulation&>();
+             s.refuse_while_stepping("particles.view");
+             const api::Particles p = s.sim.particles();
+             py::object token = py::cast(ViewToken{self, name, s.sim.current_step()});
+             py::array a = with_field(p, name, [&](auto span) { return view(span, token); });
+             s.views.emplace_back(token);
+             return a;
            })
       .def("gather",
            [](const PySimulation& s) -> py::object {

@@ -1,4 +1,4 @@
-"""Simulation from Python: same bits as the command line, zero-copy state, callbacks, checkpoints,
+"""Simulation from Python: same bits as the command line, particle state, callbacks, checkpoints,
 results as arrays."""
 import filecmp
 import os
@@ -42,18 +42,18 @@ def test_a_spec_built_from_dicts_runs_the_same_as_the_file(small_toml, tmp_path)
     assert (tmp_path / "a" / "checkpoint.mdpd").read_bytes() == (tmp_path / "b" / "checkpoint.mdpd").read_bytes()
 
 
-def test_local_arrays_are_zero_copy_views_that_follow_the_run():
+def test_local_arrays_follow_the_run():
     sim = mesodpd.Simulation.from_string(SMALL)
     p = sim.particles
     x0 = p.x
-    assert x0.dtype == np.float64 and len(x0) == sim.n_particles == 864
-    assert not x0.flags.owndata and not x0.flags.writeable
-    assert np.shares_memory(p.x, p.x)  # two requests, one buffer: no copy
+    assert x0.dtype == np.float64 and len(x0) == len(p) == sim.n_particles == 864
+    assert not x0.flags.writeable
+    assert np.shares_memory(p.x, p.x)  # two reads in one step: one copy (test_views.py has the rest)
     with pytest.raises(ValueError):
         x0[0] = 1.0
     before = dict(zip(p.id.tolist(), p.x.tolist()))
     sim.step(3)
-    # After the steps the views show the new state, which the gathered id-ordered copy confirms.
+    # Read after the steps, the arrays show the new state, which the gathered id-ordered copy confirms.
     snap = sim.snapshot()
     assert np.array_equal(snap["id"], np.arange(1, 865, dtype=np.uint32))
     order = np.argsort(p.id)

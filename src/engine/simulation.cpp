@@ -598,13 +598,15 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                                   spec_.species.size()));
   if (h.seed != spec_.seed)
     throw ConfigError(fmt::format("system.seed: {} differs from the checkpoint's seed {} ({})", spec_.seed, h.seed,
-                                  file.string()));
+                                  file.string()),
+                      "system.seed");
   // The stored forces and the integrator's state belong to the checkpoint's time step, and the noise
   // amplitude scales with 1/sqrt(dt): continuing with another dt would silently be another run.
   if (h.dt != spec_.dt)
     throw ConfigError(fmt::format("integrator.dt: {} differs from the checkpoint's dt {} ({}); set integrator.dt = {} "
                                   "to continue that run",
-                                  spec_.dt, h.dt, file.string(), h.dt));
+                                  spec_.dt, h.dt, file.string(), h.dt),
+                      "integrator.dt");
   step_ = h.step;
   neighbor_builds_before_ = h.neighbor_builds;
   box_.len = {h.box[0], h.box[1], h.box[2]};
