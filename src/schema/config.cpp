@@ -390,26 +390,18 @@ void read_analysis(const Section& top, SimulationSpec& spec) {
   } else if (n) {
     for (const Section& f : s.tables("fields", kFieldKeys)) read_fields(f, spec);
   }
-  if (const auto t = s.table("rdf", rdf_keys().names())) {
-    spec.rdf.enabled = true;
-    read_keys(rdf_keys(), *t, spec.rdf);
-  }
-  if (const auto t = s.table("msd", msd_keys().names())) {
-    spec.msd.enabled = true;
-    read_keys(msd_keys(), *t, spec.msd);
-  }
-  if (const auto t = s.table("surface_tension", surface_tension_keys().names())) {
-    spec.surface_tension.enabled = true;
-    read_keys(surface_tension_keys(), *t, spec.surface_tension);
-  }
-  if (const auto t = s.table("droplet", droplet_keys().names())) {
-    spec.droplet.enabled = true;
-    read_keys(droplet_keys(), *t, spec.droplet);
-  }
-  if (const auto t = s.table("stress_profile", stress_profile_keys().names())) {
-    spec.stress_profile.enabled = true;
-    read_keys(stress_profile_keys(), *t, spec.stress_profile);
-  }
+  // A sub-table whose presence turns its analysis on, read into `out` from the keys it declares.
+  const auto optional_table = [&](const auto& table, std::string_view name, auto& out) {
+    if (const auto t = s.table(name, table.names())) {
+      out.enabled = true;
+      read_keys(table, *t, out);
+    }
+  };
+  optional_table(rdf_keys(), "rdf", spec.rdf);
+  optional_table(msd_keys(), "msd", spec.msd);
+  optional_table(surface_tension_keys(), "surface_tension", spec.surface_tension);
+  optional_table(droplet_keys(), "droplet", spec.droplet);
+  optional_table(stress_profile_keys(), "stress_profile", spec.stress_profile);
 }
 
 // Where each key of the file is: "system.box", "system.box[2]", "pair.override[1].rd", ... as

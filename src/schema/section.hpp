@@ -243,16 +243,11 @@ class Section {
   template <class E>
   std::optional<E> choice(std::string_view key,
                           std::initializer_list<std::pair<std::string_view, E>> options) const {
-    const std::optional<std::string> s = string(key);
-    if (!s) return std::nullopt;
-    std::vector<std::string_view> words;
-    for (const auto& [word, value] : options) {
-      if (word == *s) return value;
-      words.push_back(word);
-    }
-    std::string why = fmt::format("must be one of {}", join(words, "\""));
-    if (const auto best = closest(*s, words)) why += fmt::format(" (did you mean \"{}\"?)", *best);
-    bad(key, why);
+    std::vector<std::pair<std::string, int>> numbered;
+    for (const auto& [word, value] : options) numbered.emplace_back(std::string(word), static_cast<int>(value));
+    const std::optional<int> v = choice_of(key, numbered);
+    if (!v) return std::nullopt;
+    return static_cast<E>(*v);
   }
 
   // A string that must be one of the declared `options` (word, integer value).
