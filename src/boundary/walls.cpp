@@ -1,4 +1,4 @@
-// Reflections at solid surfaces and the drag on solid bodies.
+// Reflections at solid surfaces, the momentum they take from the fluid, and the adaptive near-wall force.
 #include "boundary/walls.hpp"
 
 #include <fmt/format.h>
@@ -6,13 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 
 #include "core/philox.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "io/byte_buffer.hpp"
-#include "io/atomic_file.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
@@ -69,9 +67,7 @@ Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
     bound_[k] = f;
   }
   const WallsSpec& w = spec.walls;
-  // Blocks that do not depend on the run length, so that a restart continues them exactly.
-  drag_blocks_ = BlockRows(6 * geometry_.bodies(), static_cast<std::size_t>(w.drag_blocks));
-  drag_total_.assign(6 * geometry_.bodies(), 0.0);
+  adaptive_impulse_.assign(3 * geometry_.bodies(), 0);
   if (w.adaptive) {
     // Bins per solid (each has its own frozen structure and curvature), then the bulk.
     const std::size_t bins = static_cast<std::size_t>(w.adaptive_bins) * geometry_.bodies();
@@ -132,30 +128,6 @@ int Walls::adaptive_bin(double d, int body) const {
   if (!(d >= w.layer) || body < 0) return -1;
   if (d >= w.adaptive_range) return static_cast<int>(potential_.size());
   return body * w.adaptive_bins + std::min(w.adaptive_bins - 1, static_cast<int>((d - w.layer) / bin_width_));
-}
-
-void Walls::set_output(const std::filesystem::path& out_dir, bool restarted, const Comm& comm) {
-  out_dir_ = out_dir;
-  if (out_dir_.empty()) return;
-  comm.on_root([&] {
-    std::filesystem::create_directories(out_dir_);
-    const auto path = out_dir_ / "drag.csv";
-    if (restarted && std::filesystem::exists(path)) return;
-    std::ofstream f(path, std::ios::trunc);
-    if (!f) throw ConfigError(fmt::format("{}: cannot open for writing", path.string()));
-    f << "step";
-    for (const auto& s : spec_.solids) f << fmt::format(",{0}_fx,{0}_fy,{0}_fz", s.name);
-    f << ",fluid_vx,fluid_vy,fluid_vz\n";
-    if (!spec_.walls.adaptive) return;
-    const auto apath = out_dir_ / "adaptive.csv";
-    std::ofstream a(apath, std::ios::trunc);
-    if (!a) throw ConfigError(fmt::format("{}: cannot open for writing", apath.string()));
-    a << "step";
-    for (const char* what : {"U", "rho"})
-      for (const auto& s : spec_.solids)
-        for (int k = 0; k < spec_.walls.adaptive_bins; ++k) a << fmt::format(",{}_{}{}", s.name, what, k);
-    a << "\n";
-  });
 }
 
 // The velocity rule of walls.reflection applied to u, the velocity relative to the wall, which points
@@ -461,80 +433,42 @@ std::uint64_t Walls::last_changes(const Comm& comm) const {
   return c;
 }
 
-void Walls::sample_drag(StepContext& ctx) {
-  const WallsSpec& w = spec_.walls;
-  if (ctx.step <= w.drag_start || ctx.step % w.drag_every != 0) return;
-  const ParticleData& p = ctx.particles;
-  const std::size_t nb = geometry_.bodies();
-  // Per body three force sums, then the fluid's momentum and mass, all in 2^32 fixed point.
-  std::vector<std::int64_t> q(impulse_);
-  q.resize(3 * nb + 4, 0);
-  for (std::size_t i = 0; i < p.n_local; ++i) {
-    if (p.body[i] > 0) {
-      const std::size_t b = static_cast<std::size_t>(p.body[i] - 1);
-      q[3 * b] += fixed(p.fx[i]);
-      q[3 * b + 1] += fixed(p.fy[i]);
-      q[3 * b + 2] += fixed(p.fz[i]);
-    } else if (!frozen_[static_cast<std::size_t>(p.species[i])]) {
-      if (!potential_.empty()) {
-        // The adaptive force of this step on the particle, taken back from its solid.
-        int b = -1;
-        const Vec3 r{p.x[i], p.y[i], p.z[i]};
-        const double d = geometry_.sdf(r, b);
-    const double fa = adaptive_force_at(d, b);
-        if (fa != 0) {
-          const Vec3 f = fa * geometry_.normal(r, b);
-          q[3 * static_cast<std::size_t>(b)] -= fixed(f.x);
-          q[3 * static_cast<std::size_t>(b) + 1] -= fixed(f.y);
-          q[3 * static_cast<std::size_t>(b) + 2] -= fixed(f.z);
-        }
-      }
-      const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
-      q[3 * nb] += fixed(m * p.vx[i]);
-      q[3 * nb + 1] += fixed(m * p.vy[i]);
-      q[3 * nb + 2] += fixed(m * p.vz[i]);
-      q[3 * nb + 3] += fixed(m);
-    }
-  }
-  ctx.comm.sum(std::span<std::int64_t>(q));
-  const double mass = static_cast<double>(q[3 * nb + 3]);
-  const double u[3] = {static_cast<double>(q[3 * nb]) / mass, static_cast<double>(q[3 * nb + 1]) / mass,
-                       static_cast<double>(q[3 * nb + 2]) / mass};
-  // Per body the three force components, then the fluid velocity (the same for every body).
-  std::vector<double> row(6 * nb);
-  for (std::size_t b = 0; b < nb; ++b)
-    for (std::size_t c = 0; c < 3; ++c) {
-      row[6 * b + c] = static_cast<double>(q[3 * b + c]) / kFixed;
-      row[6 * b + 3 + c] = u[c];
-    }
-  drag_blocks_.add(row.data());
-  for (std::size_t k = 0; k < row.size(); ++k) drag_total_[k] += row[k];
-  ++samples_;
-  if (!out_dir_.empty() && ctx.comm.root()) {
-    std::ofstream f(out_dir_ / "drag.csv", std::ios::app);
-    f << ctx.step;
-    for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
-    f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
-  }
-}
-
 void Walls::add_adaptive_force(StepContext& ctx) {
+  // The force on each solid is set afresh at every force evaluation: it is a function of the positions.
+  std::fill(adaptive_impulse_.begin(), adaptive_impulse_.end(), 0);
   if (std::all_of(segment_force_.begin(), segment_force_.end(), [](double f) { return f == 0; })) return;
   ParticleData& p = ctx.particles;
   const std::size_t n = p.n_local;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
-    const Vec3 r{p.x[i], p.y[i], p.z[i]};
-    int b = -1;
-    const double d = geometry_.sdf(r, b);
-    const double fa = adaptive_force_at(d, b);
-    if (fa == 0) continue;
-    const Vec3 f = fa * geometry_.normal(r, b);
-    p.fx[i] += f.x;
-    p.fy[i] += f.y;
-    p.fz[i] += f.z;
+#pragma omp parallel
+  {
+    std::vector<std::int64_t> taken(adaptive_impulse_.size(), 0);
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
+      const Vec3 r{p.x[i], p.y[i], p.z[i]};
+      int b = -1;
+      const double d = geometry_.sdf(r, b);
+      const double fa = adaptive_force_at(d, b);
+      if (fa == 0) continue;
+      const Vec3 f = fa * geometry_.normal(r, b);
+      p.fx[i] += f.x;
+      p.fy[i] += f.y;
+      p.fz[i] += f.z;
+      // The solid feels the opposite force.
+      const std::size_t k = 3 * static_cast<std::size_t>(b);
+      taken[k] -= fixed(f.x);
+      taken[k + 1] -= fixed(f.y);
+      taken[k + 2] -= fixed(f.z);
+    }
+#pragma omp critical
+    for (std::size_t k = 0; k < taken.size(); ++k) adaptive_impulse_[k] += taken[k];  // integers: order-free
   }
+}
+
+std::vector<std::int64_t> Walls::wall_forces() const {
+  std::vector<std::int64_t> q(impulse_);
+  for (std::size_t k = 0; k < q.size(); ++k) q[k] += adaptive_impulse_[k];
+  return q;
 }
 
 void Walls::adapt(StepContext& ctx) {
@@ -574,23 +508,13 @@ void Walls::adapt(StepContext& ctx) {
       potential_[k] += w.adaptive_gain * spec_.kT * std::log(ratio_[k]);
     }
     update_segment_forces();
-    if (!out_dir_.empty() && ctx.comm.root()) {
-      std::ofstream f(out_dir_ / "adaptive.csv", std::ios::app);
-      f << ctx.step;
-      for (double x : potential_) f << fmt::format(",{:.8g}", x);
-      for (double x : ratio_) f << fmt::format(",{:.6g}", x);
-      f << "\n";
-    }
+    last_update_ = ctx.step;
   }
   std::fill(bin_counts_.begin(), bin_counts_.end(), 0);
   bin_samples_ = 0;
 }
 
 void Walls::save(ByteWriter& w) const {
-  w.put<std::uint64_t>(geometry_.bodies());
-  w.put<std::uint64_t>(samples_);
-  w.put_vector(drag_total_);
-  drag_blocks_.save(w);
   w.put_vector(potential_);
   w.put_vector(bin_counts_);
   w.put<std::uint64_t>(bin_samples_);
@@ -598,14 +522,6 @@ void Walls::save(ByteWriter& w) const {
 }
 
 void Walls::load(ByteReader& r, const std::string& context) {
-  const auto bodies = r.get<std::uint64_t>();
-  if (bodies != geometry_.bodies())
-    throw ConfigError(fmt::format("{}: the checkpoint's walls have {} solids, the config {} ([[solid]])", context,
-                                  bodies, geometry_.bodies()));
-  samples_ = r.get<std::uint64_t>();
-  drag_total_ = r.get_vector<double>();
-  if (drag_total_.size() != 6 * bodies) throw ConfigError(fmt::format("{}: damaged walls section", context));
-  drag_blocks_.load(r, context + " (walls.drag_blocks)");
   std::vector<double> force = r.get_vector<double>();
   std::vector<std::uint64_t> bin_counts = r.get_vector<std::uint64_t>();
   const auto bin_samples = r.get<std::uint64_t>();
@@ -621,81 +537,6 @@ void Walls::load(ByteReader& r, const std::string& context) {
   bin_counts_ = std::move(bin_counts);
   bin_samples_ = bin_samples;
   ratio_ = std::move(ratio);
-}
-
-std::vector<DragResult> Walls::drag() const {
-  const std::size_t nb = geometry_.bodies();
-  const WallsSpec& w = spec_.walls;
-  std::vector<DragResult> out(nb);
-  for (std::size_t b = 0; b < nb; ++b) {
-    DragResult& r = out[b];
-    r.name = spec_.solids[b].name;
-    r.samples = samples_;
-    if (samples_ == 0) continue;
-    // The mean over all samples; the error bar from the full blocks.
-    std::vector<std::array<double, 6>> means;
-    std::array<double, 6> total{0, 0, 0, 0, 0, 0};
-    for (std::size_t k = 0; k < drag_blocks_.full_blocks(); ++k) {
-      std::array<double, 6> m{};
-      for (std::size_t c = 0; c < 6; ++c)
-        m[c] = drag_blocks_.block(k)[6 * b + c] / static_cast<double>(drag_blocks_.samples_per_block());
-      means.push_back(m);
-    }
-    for (std::size_t c = 0; c < 6; ++c) total[c] = drag_total_[6 * b + c] / static_cast<double>(samples_);
-    const double nblk = static_cast<double>(means.size());
-    auto block_error = [&](auto value) {
-      if (means.size() < 2) return 0.0;
-      double mean = 0, var = 0;
-      for (const auto& m : means) mean += value(m);
-      mean /= nblk;
-      for (const auto& m : means) var += (value(m) - mean) * (value(m) - mean);
-      return std::sqrt(var / (nblk - 1) / nblk);
-    };
-    for (std::size_t c = 0; c < 3; ++c) {
-      r.force[c] = total[c];
-      r.fluid_velocity[c] = total[3 + c];
-      r.error[c] = block_error([c](const std::array<double, 6>& m) { return m[c]; });
-    }
-    const double speed = std::sqrt(total[3] * total[3] + total[4] * total[4] + total[5] * total[5]);
-    if (speed > 0) {
-      const double e[3] = {total[3] / speed, total[4] / speed, total[5] / speed};
-      auto along = [e](const std::array<double, 6>& m) { return m[0] * e[0] + m[1] * e[1] + m[2] * e[2]; };
-      r.drag = along(total);
-      r.drag_error = block_error(along);
-      if (w.reference_area > 0) {
-        const double scale = 2.0 / (fill_density_ * speed * speed * w.reference_area);
-        r.cd = scale * r.drag;
-        r.cd_error = scale * r.drag_error;
-      }
-      if (w.reference_length > 0 && w.viscosity > 0) r.re = fill_density_ * speed * w.reference_length / w.viscosity;
-    }
-  }
-  return out;
-}
-
-std::string Walls::finish(const Comm& comm, const std::filesystem::path& out_dir) const {
-  const auto [pen, pushes] = totals(comm);
-  const std::vector<DragResult> results = drag();
-  std::string summary = fmt::format(
-      "walls: {} penetrations of a solid during the run ({} force kicks stopped at a surface)\n", pen, pushes);
-  for (const DragResult& r : results)
-    summary += fmt::format("drag on {}: ({:.5g} +- {:.2g}, {:.5g} +- {:.2g}, {:.5g} +- {:.2g}) over {} samples{}\n", r.name,
-                           r.force[0], r.error[0], r.force[1], r.error[1], r.force[2], r.error[2], r.samples,
-                           r.cd >= 0 ? fmt::format(", C_D = {:.4g} +- {:.2g}", r.cd, r.cd_error) : "");
-  if (out_dir.empty()) return summary;
-  comm.on_root([&] {
-    write_file_atomically(out_dir / "drag_summary.csv", [&](std::ostream& f) {
-      f << "body,fx,fy,fz,fx_err,fy_err,fz_err,fluid_vx,fluid_vy,fluid_vz,samples,drag,drag_err,cd,cd_err,re,"
-           "penetrations\n";
-      for (const DragResult& r : results)
-        f << fmt::format("{},{:.10g},{:.10g},{:.10g},{:.4g},{:.4g},{:.4g},{:.10g},{:.10g},{:.10g},{},{:.10g},{:.4g},{:.8g},"
-                         "{:.4g},{:.8g},{}\n",
-                         r.name, r.force[0], r.force[1], r.force[2], r.error[0], r.error[1], r.error[2],
-                         r.fluid_velocity[0], r.fluid_velocity[1], r.fluid_velocity[2], r.samples, r.drag, r.drag_error,
-                         r.cd, r.cd_error, r.re, pen);
-    });
-  });
-  return summary;
 }
 
 }  // namespace mesodpd

@@ -1,15 +1,14 @@
 // Solid walls at run time: reflection of fluid particles in a thin layer at the solid surfaces (seed 000
-// Sect. 3.2.1) as an AfterFirstHalf stage, and the drag on each solid body (seed 004 Eqs 10-11) sampled
-// at EndOfStep. The frozen wall particles themselves are made by make_initial_state and are ordinary
-// particles of frozen species (never integrated: inverse mass 0) with a body index.
+// Sect. 3.2.1) and the adaptive near-wall force, as stages; the momentum both take from the fluid per
+// body, which the drag analysis (analysis/wall_drag.hpp, seed 004 Eqs 10-11) adds to the pair forces.
+// The frozen wall particles themselves are made by make_initial_state and are ordinary particles of
+// frozen species (never integrated: inverse mass 0) with a body index.
 #pragma once
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
-#include "analysis/block_rows.hpp"
 #include "boundary/geometry.hpp"
 #include "core/stage.hpp"
 #include "mesodpd/spec.hpp"
@@ -19,18 +18,6 @@ namespace mesodpd {
 class ByteReader;
 class ByteWriter;
 class Comm;
-
-// The time-averaged drag on one body. Forces are those the fluid exerts on the body: pair forces on its
-// frozen particles plus the momentum the reflections at its surface take from the fluid, per unit time.
-struct DragResult {
-  std::string name;
-  std::array<double, 3> force{0, 0, 0}, error{0, 0, 0};  // mean and block standard error
-  std::array<double, 3> fluid_velocity{0, 0, 0};          // mean fluid velocity over the same samples
-  std::uint64_t samples = 0;
-  double drag = 0, drag_error = 0;  // F . u / |u| (u: mean fluid velocity)
-  double cd = -1, cd_error = -1;    // C_D = 2 F_D / (rho |u|^2 A), when walls.reference_area is set
-  double re = -1;                   // Re = rho |u| d / mu, when walls.reference_length and viscosity are set
-};
 
 class Walls {
  public:
@@ -50,8 +37,12 @@ class Walls {
   // simulation also applies this to the initial state. No particle then crosses a surface, and
   // mirror_positions finds nothing.
   void reflect_velocities(StepContext& ctx);
-  // EndOfStep: a drag sample when due (collective), appended to drag.csv on the root if `out` is set.
-  void sample_drag(StepContext& ctx);
+  // The force on each body from the walls' own rules at this step, 3 per body in 2^32 fixed point, on
+  // this rank: the momentum per unit time the reflections took from the fluid plus the opposite of the
+  // adaptive force of the last force evaluation. The drag adds the pair forces on the frozen particles.
+  std::vector<std::int64_t> wall_forces() const;
+  // Mass density of the fluid the walls were cut from (the reference density of C_D and Re).
+  double fill_density() const { return fill_density_; }
 
   // Adaptive near-wall force (walls.adaptive; seed 002 "Boundary Conditions", third category). The
   // distance from the nearest surface between walls.layer and walls.adaptive_range is cut into
@@ -65,9 +56,11 @@ class Walls {
   // EndOfStep (collective): counts the mobile particles per bin and in the bulk (beyond the range) at
   // every step up to walls.adaptive_stop; every walls.adaptive_every steps the controller sets
   //   U_k += gain kT ln(rho_k / rho_bulk)
-  // from the counts over those steps (integer sums over ranks, so every rank computes the same U), and
-  // the root appends the step, U_k and rho_k / rho_bulk to adaptive.csv.
+  // from the counts over those steps (integer sums over ranks, so every rank computes the same U).
   void adapt(StepContext& ctx);
+  // The step of the controller's last update (0: none yet in this process); analysis/wall_drag.hpp
+  // writes U_k and rho_k / rho_bulk to adaptive.csv at each one.
+  std::uint64_t last_adaptive_update() const { return last_update_; }
   bool adaptive() const { return spec_.walls.adaptive; }
   const std::vector<double>& adaptive_potential() const { return potential_; }
   // The adaptive force along the outward normal at signed distance d from `body` (0 outside the bins).
@@ -75,7 +68,8 @@ class Walls {
   // rho_k / rho_bulk at the last update, bins of solid 0 first (empty before the first update).
   const std::vector<double>& adaptive_density() const { return ratio_; }
 
-  // Checkpoint section: the drag averages and the adaptive force's state (the same on every rank).
+  // Checkpoint part: the adaptive force's state (the same on every rank; the drag averages precede it in
+  // the checkpoint's "walls" section).
   void save(ByteWriter& w) const;
   void load(ByteReader& r, const std::string& context);
 
@@ -85,10 +79,6 @@ class Walls {
   std::array<std::uint64_t, 2> totals(const Comm& comm) const;
   // Reflections and pushes of the last reflect_velocities() call, summed over ranks (collective).
   std::uint64_t last_changes(const Comm& comm) const;
-  // Block-averaged drag per body (the same on every rank).
-  std::vector<DragResult> drag() const;
-  // Writes drag_summary.csv (root) and returns summary lines.
-  std::string finish(const Comm& comm, const std::filesystem::path& out_dir) const;
 
   const Geometry& geometry() const { return geometry_; }
   // Whole cells far from every surface are skipped when the step says where its cells are
@@ -97,7 +87,6 @@ class Walls {
   // Mobile particles whose distance bound the last mirror_positions or reflect_velocities looked at
   // (this rank).
   std::uint64_t examined() const { return examined_; }
-  void set_output(const std::filesystem::path& out_dir, bool restarted, const Comm& comm);
 
  private:
   // The adaptive bin of a point at signed distance d from solid `body`: body * bins + (0 .. bins-1)
@@ -147,12 +136,8 @@ class Walls {
   std::uint64_t pushes_ = 0;  // this rank: normal pushes that stopped a force kick at a surface
   std::array<std::uint64_t, 2> counted_{0, 0};  // of the current for_near_wall
   std::vector<std::int64_t> impulse_;  // this rank, this step: 3 per body, momentum/dt in 2^32 units
-  // Drag samples: per body 3 forces, then 3 fluid velocity components, summed over all samples and
-  // in blocks (between walls.drag_blocks and twice as many full blocks at any time).
-  std::uint64_t samples_ = 0;
-  std::vector<double> drag_total_;
-  BlockRows drag_blocks_;
-  std::filesystem::path out_dir_;
+  std::vector<std::int64_t> adaptive_impulse_;  // this rank: minus the adaptive force, 3 per body, 2^32 units
+  std::uint64_t last_update_ = 0;
   // Adaptive force, per solid and bin: the potential and the force of each segment; the fluid volume of
   // the bin and the particle counts since the last update (over all ranks; the bulk beyond the range
   // last), the last density ratios.

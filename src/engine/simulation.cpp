@@ -15,9 +15,8 @@
 
 #include "analysis/observers.hpp"
 #include "analysis/thermo.hpp"
-#include "boundary/external_fields.hpp"
-#include "boundary/walls.hpp"
 #include "engine/domain_exchange.hpp"
+#include "engine/installer.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "io/byte_buffer.hpp"
@@ -87,8 +86,6 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     // Frozen wall particles have infinite mass: the integrator leaves their velocity (the wall's) alone.
     inv_mass_.push_back(s.frozen ? 0.0 : 1.0 / s.mass);
   }
-  // External fields act after the pair forces: species body forces, then reverse Poiseuille.
-  add_external_fields(spec_, stages_);
   final_step_ = options_.steps ? *options_.steps : spec_.steps;
   const bool restarted = !options_.restart.empty();
   const Comm comm = Comm::world();
@@ -136,7 +133,31 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (comm.distributed()) malloc_trim(0);
 #endif
   }
-  if (!restarted) {
+  // Every model joins through its installer, in the order of engine/installers.cpp.
+  Installation setup{*this,
+                     spec_,
+                     options_,
+                     restarted,
+                     stages_,
+                     components_,
+                     summaries_,
+                     ObserverSettings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}},
+                     std::move(pending_observer_state_)};
+  for (Installer install : installers()) install(setup);
+  observers_ = components_.find<Observers>();
+}
+
+StepContext Installation::context() const { return sim.context(); }
+
+void Installation::initial_forces() { sim.initial_forces(); }
+
+void Installation::refresh() {
+  rebuild_neighbors(sim.nlist_, sim.p_, sim.box_, sim.halo_);
+  sim.compute_forces(true);
+}
+
+void Simulation::initial_forces() {
+  if (options_.restart.empty()) {
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
   } else if (spec_.bond_subcycles > 1) {
@@ -147,94 +168,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (neighbor_builds_before_ > 0) --neighbor_builds_before_;
     add_bonded_forces(false, &fast_, true);
   }
-  ObserverSettings observer_settings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}};
-  if (spec_.droplet.enabled) {
-    // The droplet's local pressures: the run's force law on a subset of particles, by the reference
-    // loop (serial, in index order, so the result depends on neither threads nor ranks).
-    observer_settings.interaction_range = forces_->max_cutoff() + (density_ ? density_->table.max_cutoff : 0.0);
-    observer_settings.local_virial = make_local_virial(forces_->laws(), density_);
-  }
-  if (spec_.stress_profile.enabled) {
-    // The stress profile's virial terms: the run's pair law by the reference loop (with densities over
-    // the whole system for many-body laws) without the excluded pairs, then the bonds and angles;
-    // serial and in index order, so independent of threads and ranks.
-    observer_settings.virial_terms = [this](const ParticleData& all, const Box& box, VirialTerms& terms) {
-      std::vector<double> rho;
-      if (density_) reference_density(all, box, *density_, rho);
-      ExcludedPair excluded;
-      if (bonds_.excluded_pairs() > 0)
-        excluded = [this](std::uint32_t a, std::uint32_t b) { return bonds_.excluded(a, b); };
-      reference_conservative_virial_terms(all, box, forces_->laws(), terms, density_ ? rho.data() : nullptr, excluded);
-      bonds_.virial_terms(all, box, terms);
-    };
-  }
-  if (!spec_.solids.empty()) {
-    // Walls: penetrations mirrored right after the positions move, reflections in the layer after the
-    // velocities are complete, drag samples at the end of each step, the reflection and penetration
-    // counts as thermo columns, and the drag averages (and adaptive force) in checkpoints.
-    walls_ = std::make_shared<Walls>(spec_, box_, spec_.integrator == IntegratorKind::GrootWarren);
-    walls_->set_output(options_.out_dir, restarted, halo_.comm());
-    std::shared_ptr<Walls> w = walls_;
-    stages_.add(StagePoint::AfterFirstHalf, make_stage([w](StepContext& ctx) { w->mirror_positions(ctx); }));
-    stages_.add(StagePoint::AfterSecondHalf, make_stage([w](StepContext& ctx) { w->reflect_velocities(ctx); }));
-    stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->sample_drag(ctx); }));
-    if (w->adaptive()) {
-      // The adaptive near-wall force: applied with the other external forces, adjusted after the drag
-      // sample (which takes it back from the solids with the values it had at this step's forces).
-      stages_.add(StagePoint::Forces, make_stage([w](StepContext& ctx) { w->add_adaptive_force(ctx); }));
-      stages_.add(StagePoint::EndOfStep, make_stage([w](StepContext& ctx) { w->adapt(ctx); }));
-    }
-    observer_settings.sections.push_back({"walls", [w](ByteWriter& out) { w->save(out); },
-                                          [w](ByteReader& in, const std::string& context) { w->load(in, context); }});
-    if (!restarted) {
-      // The initial velocities obey the wall rule like every end-of-step one (a fast particle next to a
-      // surface would otherwise cross it in the first move); the ghosts and forces then belong to them.
-      // The new velocities change the dissipative forces, hence the predicted first move (by up to ~1e-3
-      // in examples/porous, enough to end a move a hair inside a solid): passes repeat until one changes
-      // no velocity (each shrinks the changes ~10-fold). Runs that need no second pass are unchanged.
-      for (int pass = 0; pass < 20; ++pass) {
-        StepContext ctx = context();
-        walls_->reflect_velocities(ctx);
-        if (pass > 0 && walls_->last_changes(halo_.comm()) == 0) break;
-        rebuild_neighbors(nlist_, p_, box_, halo_);
-        compute_forces(true);
-      }
-    }
-    auto counts = std::make_shared<std::array<std::uint64_t, 2>>();
-    observer_settings.columns.push_back({"reflections", [w, counts](const StepContext& ctx) {
-                                           *counts = w->take_counts(ctx.comm);
-                                           return static_cast<double>((*counts)[0]);
-                                         }});
-    observer_settings.columns.push_back(
-        {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
-    // Flows between walls stream: the temperature of the velocities relative to the mean velocity of
-    // bins about one cutoff wide is the heat (thermo's own temperature counts the flow too). At most
-    // ~65,536 bins (wider bins in large boxes), so that a thermo row's integer sums stay small.
-    const double bin_width = std::max(forces_->max_cutoff(), std::cbrt(box_.volume() / 65536.0));
-    std::array<int, 3> bins{};
-    for (int d = 0; d < 3; ++d)
-      bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box_.length(d) / bin_width));
-    std::vector<std::uint8_t> frozen;
-    for (const auto& s : spec_.species) frozen.push_back(s.frozen ? 1 : 0);
-    observer_settings.temperature_column = static_cast<int>(observer_settings.columns.size());
-    observer_settings.columns.push_back({"temperature_peculiar", [bins, frozen](const StepContext& ctx) {
-                                           return peculiar_temperature(ctx.particles, ctx.species_mass, ctx.box, bins,
-                                                                       ctx.comm, frozen);
-                                         }});
-  }
-  observers_ = &stages_.add(StagePoint::EndOfStep, std::make_unique<Observers>(spec_, std::move(observer_settings), context()));
-  if (!pending_observer_state_.empty()) {
-    ByteReader r(pending_observer_state_, options_.restart.string());
-    observers_->load(r, options_.restart.string());
-    pending_observer_state_.clear();
-  }
-  if (!restarted) observers_->observe(context());
-  // The periodic checkpoint, after the observers so that it holds their averages up to this step.
-  if (!options_.out_dir.empty() && spec_.checkpoint_every > 0)
-    stages_.add(StagePoint::EndOfStep, make_stage([this](StepContext& ctx) {
-      if (ctx.step % spec_.checkpoint_every == 0) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
-    }));
 }
+
 
 Simulation::~Simulation() = default;
 
@@ -560,11 +495,9 @@ std::string Simulation::finish() {
                            bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
-  if (observers_) summary += observers_->finish(context());
-  if (walls_) {
-    const std::string w = walls_->finish(halo_.comm(), options_.out_dir);
-    if (halo_.comm().root()) summary += w;
-  }
+  const StepContext ctx = context();
+  if (observers_) summary += observers_->finish(ctx);
+  for (const Summary& part : summaries_) summary += part(ctx);
   return summary;
 }
 

@@ -18,6 +18,7 @@
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
 #include "engine/bonded_forces.hpp"
+#include "engine/installer.hpp"
 #include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
 #include "mesodpd/spec.hpp"
@@ -48,7 +49,8 @@ struct RunOptions {
 };
 
 class Observers;  // measurements and writers (analysis/observers.hpp)
-class Walls;      // reflections and drag at [[solid]] walls (boundary/walls.hpp)
+class Walls;      // reflections at [[solid]] walls (boundary/walls.hpp)
+struct Installation;
 
 class Simulation {
  public:
@@ -75,8 +77,8 @@ class Simulation {
   // force evaluation is the pair forces, then the bonded forces, then the [Forces] stages.
   void step();
 
-  // Registers a stage after those already at `at` (the constructor registers the external fields at
-  // Forces, and the observers and the periodic checkpoint at EndOfStep). Returns the stage.
+  // Registers a stage after those already at `at` (the constructor's installers have registered theirs:
+  // engine/installers.cpp). Returns the stage.
   template <class S>
   S& add_stage(StagePoint at, std::unique_ptr<S> stage) {
     return stages_.add(at, std::move(stage));
@@ -98,9 +100,15 @@ class Simulation {
   // Axis (0, 1, 2) of a driven reverse-Poiseuille flow, or -1: thermo's temperature across the flow.
   int flow_axis() const { return spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1; }
   std::uint64_t final_step() const { return final_step_; }
-  // The walls of a run with [[solid]] blocks (reflection counts, drag), or null.
-  const Walls* walls() const { return walls_.get(); }
-  Walls* walls() { return walls_.get(); }
+  // The object of type T that an installer shared (engine/installer.hpp), or null: for instance the
+  // Walls of a run with [[solid]] blocks.
+  template <class T>
+  T* component() const { return components_.find<T>(); }
+  const Walls* walls() const { return component<Walls>(); }
+  Walls* walls() { return component<Walls>(); }
+  // The pair stages and the many-body law's density pass (none for pairwise laws).
+  const PairBackend& pair_backend() const { return *forces_; }
+  const std::optional<DensitySettings>& density_settings() const { return density_; }
   const NeighborList& neighbor_list() const { return nlist_; }
   // Bonds and angles (by global id) and their force evaluation; empty without molecules.
   const BondedForces& bonded() const { return bonds_; }
@@ -129,6 +137,9 @@ class Simulation {
   const double* compute_density();
   // The largest local density over all ranks and the smallest id holding it (collective).
   std::pair<double, std::uint32_t> densest_particle() const;
+  friend struct Installation;
+  // The forces of the initial state (a new run), or what a restart needs besides the checkpoint's.
+  void initial_forces();
   StepContext context();
   void run_stages(StagePoint at);
   void check_health() const;
@@ -161,8 +172,9 @@ class Simulation {
   std::vector<double> fast_;
   double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
   StageList stages_;                 // owns the stages, the observers among them
+  Components components_;            // what the installers share (walls, observers)
+  std::vector<Summary> summaries_;   // the installers' end-of-run summaries
   Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
-  std::shared_ptr<Walls> walls_;     // shared with its two stages
 };
 
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/wall_drag.hpp"
 #include "boundary/walls.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"
@@ -94,7 +95,7 @@ Flow run_porous(double g, int steps) {
   double var = 0;
   for (double m : means) var += (m - f.u) * (m - f.u);
   f.u_err = std::sqrt(var / (blocks - 1) / blocks);
-  const auto drag = sim.walls()->drag();
+  const auto drag = sim.component<WallDrag>()->results();
   f.drag = drag.at(0).force[0];
   f.drag_err = drag.at(0).error[0];
   f.body_force = f.fluid * g;

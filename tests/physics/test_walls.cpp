@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/wall_drag.hpp"
 #include "boundary/walls.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/reference_pair_loop.hpp"
@@ -350,7 +351,7 @@ TEST(Walls, DragOnTheWallsBalancesTheBodyForceInSteadyState) {
   std::uint64_t fluid = 0;
   for (std::size_t i = 0; i < sim.particles().n_local; ++i) fluid += sim.particles().body[i] == 0 ? 1 : 0;
   sim.run();
-  const auto drag = sim.walls()->drag();
+  const auto drag = sim.component<WallDrag>()->results();
   ASSERT_EQ(drag.size(), 2u);
   const double total = drag[0].force[0] + drag[1].force[0];
   const double error = std::hypot(drag[0].error[0], drag[1].error[0]);
@@ -529,7 +530,7 @@ TEST(Walls, RestartContinuesDragAveragesAndAdaptiveForceByteForByte) {
     ASSERT_GT(a.size(), 100u) << f;
     EXPECT_TRUE(a == test::read_file(first.out_dir / f)) << f << " differs after a restart";
   }
-  EXPECT_EQ(restarted.walls()->drag()[2].samples, 127u);  // steps 21..400 every 3
+  EXPECT_EQ(restarted.component<WallDrag>()->results()[2].samples, 127u);  // steps 21..400 every 3
   EXPECT_NE(restarted.walls()->adaptive_potential()[0], 0.0);
 }
 
