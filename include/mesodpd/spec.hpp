@@ -15,6 +15,9 @@
 
 namespace mesodpd {
 
+// The most OpenMP threads a run accepts (run.threads, --threads): more is a typo, not a request.
+inline constexpr int kMaxThreads = 1024;
+
 enum class Placement { Lattice, Random };
 enum class IntegratorKind { GrootWarren, Euler };
 enum class NoiseDistribution { Uniform, Gaussian };

@@ -9,9 +9,6 @@
 
 namespace mesodpd {
 
-// The most OpenMP threads a run accepts (run.threads, --threads): more is a typo, not a request.
-inline constexpr int kMaxThreads = 1024;
-
 // Checks every value of `spec` against its allowed range and the others it depends on, and fills what
 // follows from other values: species counts from densities, the resolved `pairs` table from
 // `pair_section` (overrides, mixing, rd = rc), `init_velocities`, the default dump file name. Also

@@ -2,7 +2,8 @@
 // [parallel], [output], [output.dump]); their cross-checks are in src/schema/validate.cpp.
 #include "engine/run_keys.hpp"
 
-#include "mesodpd/validate.hpp"
+#include "mesodpd/key_table.hpp"
+#include "mesodpd/spec.hpp"
 
 namespace mesodpd {
 
