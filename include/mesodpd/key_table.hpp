@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -313,6 +314,47 @@ std::vector<KeyDoc> KeyTable<T>::docs() const {
 
 // The markdown table of docs/config.md for `rows`.
 std::string markdown(const std::vector<KeyDoc>& rows);
+
+// A config table as the schema reads it (src/schema/section.hpp implements this over TOML). Each read()
+// leaves `out` alone when the key is absent and throws a ConfigError naming the key (file:line:col)
+// when its type is wrong; missing() reports an absent required key.
+class Reader {
+ public:
+  virtual ~Reader() = default;
+  virtual bool has(std::string_view key) const = 0;
+  virtual void read(std::string_view key, double& out) const = 0;
+  virtual void read(std::string_view key, std::optional<double>& out) const = 0;
+  virtual void read(std::string_view key, int& out) const = 0;
+  virtual void read(std::string_view key, std::uint64_t& out) const = 0;
+  virtual void read(std::string_view key, bool& out) const = 0;
+  virtual void read(std::string_view key, std::string& out) const = 0;
+  virtual void read(std::string_view key, std::array<double, 3>& out) const = 0;
+  virtual void read(std::string_view key, std::array<bool, 3>& out) const = 0;
+  virtual void read(std::string_view key, std::vector<std::string>& out) const = 0;
+  virtual std::optional<int> choice(std::string_view key,
+                                    const std::vector<std::pair<std::string, int>>& options) const = 0;
+  [[noreturn]] virtual void missing(std::string_view key, std::string_view hint) const = 0;
+};
+
+// Fills `out` from the keys of `table` that `s` holds: written keys are read (and their types checked)
+// before an absent required one is reported. Custom keys are left to their model's own code.
+template <class T>
+void read_keys(const KeyTable<T>& table, const Reader& s, T& out) {
+  for (const Key<T>& k : table.keys()) {
+    std::visit(
+        [&](const auto& b) {
+          using B = std::decay_t<decltype(b)>;
+          if constexpr (std::is_same_v<B, Choice<T>>) {
+            if (const auto v = s.choice(k.name, b.options)) b.set(out, *v);
+          } else if constexpr (!std::is_same_v<B, Custom>) {
+            s.read(k.name, out.*b);
+          }
+        },
+        k.binding);
+  }
+  for (const Key<T>& k : table.keys())
+    if (k.required && !std::holds_alternative<Custom>(k.binding) && !s.has(k.name)) s.missing(k.name, k.missing_hint);
+}
 
 }  // namespace keys
 }  // namespace mesodpd

@@ -2,6 +2,7 @@
 // a SimulationSpec before any engine object is built; the engine never reads raw configuration.
 // Units: DPD reduced units (lengths in r_c, masses in particle mass, energies in k_BT).
 #pragma once
+#include <any>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -286,6 +287,14 @@ struct WallsSpec {
 
 struct SimulationSpec {
   std::string source;                           // file the spec came from (for messages)
+  // The sections of models that declare their own (include/mesodpd/model_section.hpp), by path; only
+  // those the file writes. model<T>(path) is the model's values, or null when its section is absent.
+  std::map<std::string, std::any, std::less<>> models;
+  template <class T>
+  const T* model(std::string_view path) const {
+    const auto it = models.find(path);
+    return it == models.end() ? nullptr : std::any_cast<T>(&it->second);
+  }
   std::array<double, 3> box{10, 10, 10};        // [system] box: orthorhombic box lengths
   std::array<bool, 3> periodic{true, true, true};  // [system] periodic: per axis periodic, or bounded (false)
   double kT = 1.0;                              // [system] kT

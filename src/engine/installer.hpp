@@ -1,13 +1,12 @@
 // How a model joins a simulation. Simulation's constructor makes the particles, the pair forces and the
-// integrator, then hands one Installation to each installer of the list in engine/installers.cpp, in
-// that order. Through it a model adds its stages at named points of the step, its thermo columns, its
+// integrator, then hands one Installation to each model's installer (the list in engine/installers.cpp,
+// then the models registered at run time), in that order. Through it a model adds its stages at named points of the step, its thermo columns, its
 // checkpoint section, its end-of-run summary and the objects other models may look up by type. Stages
 // at one point run in registration order, so the list's order is the order of the step's stages.
 #pragma once
 #include <cstddef>
 #include <functional>
 #include <memory>
-#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -15,6 +14,7 @@
 
 #include "analysis/observers.hpp"
 #include "core/stage.hpp"
+#include "mesodpd/model_section.hpp"
 #include "mesodpd/spec.hpp"
 
 namespace mesodpd {
@@ -74,7 +74,20 @@ struct Installation {
 
 using Installer = void (*)(Installation&);
 
-// The installers, in order (engine/installers.cpp).
-std::span<const Installer> installers();
+// A model as the engine lists it: its installer and, if it declares one, its own config section
+// (include/mesodpd/model_section.hpp), which the schema reads, checks and documents.
+struct Model {
+  std::string name;
+  Installer install = nullptr;
+  std::function<ModelSection()> section;  // empty: the model reads the shared spec only
+};
+
+// The models, in order: those of engine/installers.cpp with any registered at run time among them.
+std::vector<Model> models();
+// Adds a model at run time (tests, and programs that bring their own models), just before the listed
+// model `before`: by default before the observers, so that its thermo columns and checkpoint section
+// reach them; a model that adds Forces stages goes before "initial_forces". Call it before any spec is
+// read or Simulation made. A second model of the same name is refused.
+void register_model(Model model, std::string before = "observers");
 
 }  // namespace mesodpd

@@ -143,7 +143,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                      summaries_,
                      ObserverSettings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}},
                      std::move(pending_observer_state_)};
-  for (Installer install : installers()) install(setup);
+  for (const Model& model : models()) model.install(setup);
   observers_ = components_.find<Observers>();
 }
 

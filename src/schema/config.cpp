@@ -27,6 +27,7 @@
 #include "analysis/analysis_keys.hpp"
 #include "boundary/boundary_keys.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
@@ -380,8 +381,49 @@ void read_fields(const Section& f, SimulationSpec& spec) {
   out.fit = f.choice<FieldsFit>("fit", {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}).value_or(FieldsFit::None);
 }
 
-void read_analysis(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("analysis", {"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"});
+// The tables a table may hold: the schema's own, then those the model sections add under it (a model's
+// [analysis.x] or [x], engine/installer.hpp).
+std::vector<std::string_view> allowed_tables(std::vector<std::string_view> own, std::string_view parent,
+                                             const std::vector<ModelSection>& models) {
+  for (const ModelSection& m : models) {
+    const std::string_view path = m.path;
+    std::string_view child;
+    if (parent.empty()) {
+      child = path.substr(0, path.find('.'));
+    } else if (path.size() > parent.size() && path.starts_with(parent) && path[parent.size()] == '.') {
+      child = path.substr(parent.size() + 1);
+      child = child.substr(0, child.find('.'));
+    }
+    if (!child.empty() && std::find(own.begin(), own.end(), child) == own.end()) own.push_back(child);
+  }
+  return own;
+}
+
+// Each model section the file writes, read through the model's declared keys into spec.models.
+void read_models(const Section& top, const std::vector<ModelSection>& models, SimulationSpec& spec) {
+  for (const ModelSection& m : models) {
+    const std::vector<std::string_view> names(m.names.begin(), m.names.end());
+    std::optional<Section> at;
+    const std::size_t dot = m.path.find('.');
+    if (dot == std::string::npos) {
+      at = top.table(m.path, names);
+    } else {
+      const std::string parent = m.path.substr(0, dot);
+      if (!top.has(parent)) continue;
+      const std::vector<std::string_view> own =
+          parent == "analysis" ? std::vector<std::string_view>{"rdf", "msd", "fields", "surface_tension", "droplet",
+                                                               "stress_profile"}
+                               : std::vector<std::string_view>{};
+      at = top.table(parent, allowed_tables(own, parent, models))->table(m.path.substr(dot + 1), names);
+    }
+    if (at) spec.models[m.path] = m.read(schema::SectionReader(*at));
+  }
+}
+
+void read_analysis(const Section& top, const std::vector<ModelSection>& models, SimulationSpec& spec) {
+  const Section s = top.table_or_empty(
+      "analysis",
+      allowed_tables({"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"}, "analysis", models));
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -453,10 +495,14 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   fs::path base_dir = fs::path(source_name).parent_path();
   if (base_dir.empty()) base_dir = fs::current_path();
 
+  std::vector<ModelSection> models;
+  for (const Model& m : mesodpd::models())
+    if (m.section) models.push_back(m.section());
   const Section top(root, "",
-                    {"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
-                     "poiseuille", "analysis", "parallel", "solid", "walls", "bond_type", "angle_type",
-                     "molecule", "bonds"},
+                    allowed_tables({"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
+                                    "poiseuille", "analysis", "parallel", "solid", "walls", "bond_type", "angle_type",
+                                    "molecule", "bonds"},
+                                   "", models),
                     source_name);
   SimulationSpec spec;
   spec.source = source_name;
@@ -471,8 +517,9 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   read_parallel(top, spec);
   read_output(top, spec);
   read_poiseuille(top, spec);
-  read_analysis(top, spec);
+  read_analysis(top, models, spec);
   read_solids(top, base_dir, spec);
+  read_models(top, models, spec);
   try {
     validate(spec);
   } catch (const SpecError& e) {

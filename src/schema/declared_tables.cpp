@@ -4,6 +4,7 @@
 #include "analysis/analysis_keys.hpp"
 #include "boundary/boundary_keys.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
@@ -31,6 +32,12 @@ std::vector<DeclaredTable> declared_tables() {
   add(droplet_keys());
   add(stress_profile_keys());
   add(walls_keys());
+  // The models that declare their own sections (engine/installer.hpp), in the list's order.
+  for (const Model& m : models())
+    if (m.section) {
+      const ModelSection section = m.section();
+      out.push_back({section.path, section.docs, false, section.minimal});
+    }
   return out;
 }
 

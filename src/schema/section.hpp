@@ -328,40 +328,45 @@ inline void read_real(const Section& s, std::string_view key, double& out) {
 
 // Reads every declared key of `table` that `s` holds into `out` (types checked here; ranges are
 // validate()'s, through KeyTable::check). Custom keys are left to their model's code.
+// A Section seen through the declared keys' reader interface (include/mesodpd/key_table.hpp).
+class SectionReader final : public keys::Reader {
+ public:
+  explicit SectionReader(const Section& s) : s_(s) {}
+  bool has(std::string_view key) const override { return s_.has(key); }
+  void read(std::string_view key, double& out) const override { read_real(s_, key, out); }
+  void read(std::string_view key, std::optional<double>& out) const override {
+    if (const auto v = s_.real(key)) out = *v;
+  }
+  void read(std::string_view key, int& out) const override { read_int(s_, key, out); }
+  void read(std::string_view key, std::uint64_t& out) const override { read_uint(s_, key, out); }
+  void read(std::string_view key, bool& out) const override {
+    if (const auto v = s_.boolean(key)) out = *v;
+  }
+  void read(std::string_view key, std::string& out) const override {
+    if (auto v = s_.string(key)) out = std::move(*v);
+  }
+  void read(std::string_view key, std::array<double, 3>& out) const override {
+    if (const auto v = s_.vec3(key)) out = *v;
+  }
+  void read(std::string_view key, std::array<bool, 3>& out) const override {
+    if (const auto v = s_.bool3(key)) out = *v;
+  }
+  void read(std::string_view key, std::vector<std::string>& out) const override {
+    if (auto v = s_.strings(key)) out = std::move(*v);
+  }
+  std::optional<int> choice(std::string_view key,
+                            const std::vector<std::pair<std::string, int>>& options) const override {
+    return s_.choice_of(key, options);
+  }
+  [[noreturn]] void missing(std::string_view key, std::string_view hint) const override { s_.missing(key, hint); }
+
+ private:
+  const Section& s_;
+};
+
 template <class T>
 void read_keys(const keys::KeyTable<T>& table, const Section& s, T& out) {
-  for (const keys::Key<T>& k : table.keys()) {
-    const std::string_view key = k.name;
-    std::visit(
-        [&](const auto& b) {
-          using B = std::decay_t<decltype(b)>;
-          if constexpr (std::is_same_v<B, double T::*>) {
-            read_real(s, key, out.*b);
-          } else if constexpr (std::is_same_v<B, std::optional<double> T::*>) {
-            if (const auto v = s.real(key)) out.*b = *v;
-          } else if constexpr (std::is_same_v<B, int T::*>) {
-            read_int(s, key, out.*b);
-          } else if constexpr (std::is_same_v<B, std::uint64_t T::*>) {
-            read_uint(s, key, out.*b);
-          } else if constexpr (std::is_same_v<B, bool T::*>) {
-            if (const auto v = s.boolean(key)) out.*b = *v;
-          } else if constexpr (std::is_same_v<B, std::string T::*>) {
-            if (auto v = s.string(key)) out.*b = std::move(*v);
-          } else if constexpr (std::is_same_v<B, std::array<double, 3> T::*>) {
-            if (const auto v = s.vec3(key)) out.*b = *v;
-          } else if constexpr (std::is_same_v<B, std::array<bool, 3> T::*>) {
-            if (const auto v = s.bool3(key)) out.*b = *v;
-          } else if constexpr (std::is_same_v<B, std::vector<std::string> T::*>) {
-            if (auto v = s.strings(key)) out.*b = std::move(*v);
-          } else if constexpr (std::is_same_v<B, keys::Choice<T>>) {
-            if (const auto v = s.choice_of(key, b.options)) b.set(out, *v);
-          }
-        },
-        k.binding);
-  }
-  // Written keys are read (and their types checked) before an absent required one is reported.
-  for (const keys::Key<T>& k : table.keys())
-    if (k.required && !std::holds_alternative<keys::Custom>(k.binding) && !s.has(k.name)) s.missing(k.name, k.missing_hint);
+  keys::read_keys(table, SectionReader(s), out);
 }
 
 }  // namespace mesodpd::schema

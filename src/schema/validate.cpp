@@ -19,6 +19,7 @@
 #include "boundary/boundary_keys.hpp"
 #include "boundary/geometry.hpp"
 #include "engine/bonded_keys.hpp"
+#include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
@@ -953,6 +954,13 @@ constexpr Section kSections[] = {
 
 void validate(SimulationSpec& spec) {
   for (const Section section : kSections) section(spec);
+  // The models' own sections (engine/installer.hpp), each checked by its declaration, after the shared
+  // spec so that cross-checks see its resolved values.
+  for (const Model& m : models()) {
+    if (!m.section) continue;
+    const ModelSection section = m.section();
+    if (const auto it = spec.models.find(section.path); it != spec.models.end()) section.check(it->second, spec);
+  }
 }
 
 std::vector<std::string> spec_warnings(const SimulationSpec& spec) {

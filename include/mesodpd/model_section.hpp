@@ -1,0 +1,52 @@
+// A model's own config section: the keys a module declares for a model the engine's shared schema does
+// not know (a thermostat, an analysis, a field). The schema reads every listed model's section with the
+// same reader, range checks and docs as its own tables (engine/installer.hpp lists the models), and
+// keeps the values in SimulationSpec::models under the section's path, where the model's installer
+// finds them. A section that the file does not write leaves its model off.
+#pragma once
+#include <any>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "mesodpd/key_table.hpp"
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+struct ModelSection {
+  std::string path;                     // "thermostat", "analysis.speed_histogram": [path] in the file
+  std::vector<std::string> names;       // the keys it accepts
+  std::vector<keys::KeyDoc> docs;       // its rows of docs/config.md
+  std::string minimal;                  // TOML lines a table needs besides one key (docs tests)
+  std::function<std::any(const keys::Reader&)> read;           // the values the table holds (defaults else)
+  std::function<void(std::any&, const SimulationSpec&)> check;  // ranges, then the model's cross-checks
+};
+
+// The section of a model whose values are a T declared by `table`; `cross_check` (optional) throws a
+// SpecError naming the key for what the ranges cannot say.
+template <class T>
+ModelSection model_section(const keys::KeyTable<T>& table,
+                           std::type_identity_t<std::function<void(const T&, const SimulationSpec&)>> cross_check = {},
+                           std::string minimal = {}) {
+  ModelSection s;
+  s.path = table.path();
+  for (std::string_view n : table.names()) s.names.emplace_back(n);
+  s.docs = table.docs();
+  s.minimal = std::move(minimal);
+  s.read = [&table](const keys::Reader& r) {
+    T value{};
+    keys::read_keys(table, r, value);
+    return std::any(std::move(value));
+  };
+  s.check = [&table, cross_check](std::any& value, const SimulationSpec& spec) {
+    const T& v = std::any_cast<const T&>(value);
+    table.check(table.path(), v);
+    if (cross_check) cross_check(v, spec);
+  };
+  return s;
+}
+
+}  // namespace mesodpd
