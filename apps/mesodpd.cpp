@@ -103,6 +103,13 @@ int run_command(const std::string& config, const std::string& out, int threads, 
     if (comm.root())
       fmt::print(stderr, "\nerror: {}\nthe last good checkpoint (if any) is kept in {}\n", e.what(), out);
     return kExitBlowUp;
+  } catch (const ConfigError& e) {
+    // A file of the output could not be written (collective, like the health check): the run stops
+    // there, and what it had written before (checkpoints are replaced atomically) stays.
+    if (comm.root())
+      fmt::print(stderr, "\nerror: {}\nthe run stopped at step {}; the last good checkpoint (if any) is kept in {}\n",
+                 e.what(), sim.current_step(), out);
+    return kExitConfig;
   }
   return 0;
 }

@@ -3,7 +3,6 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,6 +20,7 @@
 #include "io/byte_buffer.hpp"
 #include "io/gsd_writer.hpp"
 #include "io/lammps_dump_writer.hpp"
+#include "io/output_file.hpp"
 #include "io/progress.hpp"
 #include "mesodpd/spec.hpp"
 
@@ -121,7 +121,7 @@ class Observers final : public Stage {
 
   const SimulationSpec& spec_;
   ObserverSettings opt_;
-  std::ofstream thermo_;
+  OutputFile thermo_;
   std::optional<PoiseuilleProfile> profile_;
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;

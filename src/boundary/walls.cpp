@@ -6,13 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 
 #include "core/philox.hpp"
 #include "neighbor/cell_grid.hpp"
 #include "io/byte_buffer.hpp"
 #include "io/atomic_file.hpp"
+#include "io/output_file.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
@@ -141,20 +141,20 @@ void Walls::set_output(const std::filesystem::path& out_dir, bool restarted, con
     std::filesystem::create_directories(out_dir_);
     const auto path = out_dir_ / "drag.csv";
     if (restarted && std::filesystem::exists(path)) return;
-    std::ofstream f(path, std::ios::trunc);
-    if (!f) throw ConfigError(fmt::format("{}: cannot open for writing", path.string()));
+    OutputFile f(path, OutputFile::Mode::Truncate);
     f << "step";
     for (const auto& s : spec_.solids) f << fmt::format(",{0}_fx,{0}_fy,{0}_fz", s.name);
     f << ",fluid_vx,fluid_vy,fluid_vz\n";
+    f.close();
     if (!spec_.walls.adaptive) return;
     const auto apath = out_dir_ / "adaptive.csv";
-    std::ofstream a(apath, std::ios::trunc);
-    if (!a) throw ConfigError(fmt::format("{}: cannot open for writing", apath.string()));
+    OutputFile a(apath, OutputFile::Mode::Truncate);
     a << "step";
     for (const char* what : {"U", "rho"})
       for (const auto& s : spec_.solids)
         for (int k = 0; k < spec_.walls.adaptive_bins; ++k) a << fmt::format(",{}_{}{}", s.name, what, k);
     a << "\n";
+    a.close();
   });
 }
 
@@ -510,12 +510,14 @@ void Walls::sample_drag(StepContext& ctx) {
   drag_blocks_.add(row.data());
   for (std::size_t k = 0; k < row.size(); ++k) drag_total_[k] += row[k];
   ++samples_;
-  if (!out_dir_.empty() && ctx.comm.root()) {
-    std::ofstream f(out_dir_ / "drag.csv", std::ios::app);
-    f << ctx.step;
-    for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
-    f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
-  }
+  if (!out_dir_.empty())
+    ctx.comm.on_root([&] {
+      OutputFile f(out_dir_ / "drag.csv", OutputFile::Mode::Append);
+      f << ctx.step;
+      for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
+      f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
+      f.close();
+    });
 }
 
 void Walls::add_adaptive_force(StepContext& ctx) {
@@ -574,13 +576,15 @@ void Walls::adapt(StepContext& ctx) {
       potential_[k] += w.adaptive_gain * spec_.kT * std::log(ratio_[k]);
     }
     update_segment_forces();
-    if (!out_dir_.empty() && ctx.comm.root()) {
-      std::ofstream f(out_dir_ / "adaptive.csv", std::ios::app);
-      f << ctx.step;
-      for (double x : potential_) f << fmt::format(",{:.8g}", x);
-      for (double x : ratio_) f << fmt::format(",{:.6g}", x);
-      f << "\n";
-    }
+    if (!out_dir_.empty())
+      ctx.comm.on_root([&] {
+        OutputFile f(out_dir_ / "adaptive.csv", OutputFile::Mode::Append);
+        f << ctx.step;
+        for (double x : potential_) f << fmt::format(",{:.8g}", x);
+        for (double x : ratio_) f << fmt::format(",{:.6g}", x);
+        f << "\n";
+        f.close();
+      });
   }
   std::fill(bin_counts_.begin(), bin_counts_.end(), 0);
   bin_samples_ = 0;

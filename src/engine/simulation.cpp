@@ -560,7 +560,11 @@ std::string Simulation::finish() {
                            bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
-  if (observers_) summary += observers_->finish(context());
+  // The summaries are files of the root (finish() does nothing elsewhere); a failed write stops every rank.
+  if (observers_) {
+    const StepContext ctx = context();
+    halo_.comm().on_root([&] { summary += observers_->finish(ctx); });
+  }
   if (walls_) {
     const std::string w = walls_->finish(halo_.comm(), options_.out_dir);
     if (halo_.comm().root()) summary += w;
