@@ -74,6 +74,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       forces_(make_pair_backend(make_pair_laws(spec_),
                                 NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform})) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
+  // One run per output folder, taken before anything is written there (the root writes every file).
+  if (!options_.out_dir.empty()) Comm::world().on_root([&] { output_lock_.emplace(options_.out_dir); });
   density_ = make_density_settings(spec_);
   // Cells (and so ghost layers) also reach as far as the longest bond allowed (bonds.reach).
   nlist_ = NeighborList(NeighborSettings{std::max(forces_->max_cutoff(), spec_.bond_reach),

@@ -20,6 +20,7 @@
 #include "engine/bonded_forces.hpp"
 #include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
+#include "io/output_lock.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "parallel/halo.hpp"
@@ -137,6 +138,8 @@ class Simulation {
 
   SimulationSpec spec_;
   RunOptions options_;
+  // The output folder's lock (on the root, with an out_dir), held for the simulation's lifetime.
+  std::optional<OutputLock> output_lock_;
   Box box_;
   ParticleData p_;
   NeighborList nlist_;

@@ -91,3 +91,47 @@ TEST(Robustness, UnwritableDumpStopsTheRunNamingIt) {
   EXPECT_TRUE(contains(r.err, "trajectory.lammpstrj")) << r.err;
 }
 
+// Two runs into one output folder: while the first is alive, the second is refused (exit 2, naming the
+// folder and the holder) and the first ends normally with its own rows.
+TEST(Robustness, SecondLiveRunIntoTheSameFolderIsRefused) {
+  const fs::path dir = work_dir();
+  write_text(dir / "long.toml", small_config("", "steps = 100000"));
+  write_text(dir / "other.toml", small_config("", "steps = 20"));
+  // The first run in the background; its exit code lands in first.rc.
+  const std::string first = "(" + command(dir, "run long.toml --out S", "first") + "; echo $? > '" +
+                            (dir / "first.rc").string() + "') &";
+  ASSERT_EQ(std::system(first.c_str()), 0);
+  for (int k = 0; k < 600 && !fs::exists(dir / "S" / "thermo.csv"); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(fs::exists(dir / "S" / "mesodpd.lock"));
+  const CliResult second = run_mesodpd(dir, "run other.toml --out S", "second");
+  EXPECT_EQ(second.code, 2) << second.out << second.err;
+  EXPECT_TRUE(contains(second.err, "'S' is in use by pid")) << second.err;
+  EXPECT_TRUE(contains(second.err, "mesodpd.lock")) << second.err;
+  // Stop the first run (it would take minutes) the way a user would, and wait for it.
+  const std::string holder = mesodpd::test::read_file(dir / "S" / "mesodpd.lock");
+  const auto pid = std::stol(holder.substr(holder.find("pid ") + 4));
+  ASSERT_GT(pid, 1);
+  ::kill(static_cast<pid_t>(pid), SIGKILL);
+  for (int k = 0; k < 600 && !fs::exists(dir / "first.rc"); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  // The killed run's lock is stale: the next run takes the folder over.
+  const CliResult third = run_mesodpd(dir, "run other.toml --out S", "third");
+  EXPECT_EQ(third.code, 0) << third.err;
+  EXPECT_FALSE(fs::exists(dir / "S" / "mesodpd.lock"));  // a run that ends removes its lock file
+}
+
+// A killed run's lock file and the temporaries of its atomic writes: taken over and removed.
+TEST(Robustness, StaleLockAndTemporariesOfKilledRunsAreCleanedUp) {
+  const fs::path dir = work_dir();
+  write_text(dir / "c.toml", small_config());
+  fs::create_directories(dir / "S");
+  write_text(dir / "S" / "mesodpd.lock", "pid 999999 on host gone\n");
+  write_text(dir / "S" / "checkpoint.mdpd.tmp.999999", std::string(1000, 'x'));
+  write_text(dir / "S" / "notes.tmp.txt", "kept: not a temporary of ours\n");
+  const CliResult r = run_mesodpd(dir, "run c.toml --out S");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "S" / "checkpoint.mdpd.tmp.999999"));
+  EXPECT_TRUE(fs::exists(dir / "S" / "notes.tmp.txt"));
+  EXPECT_TRUE(fs::exists(dir / "S" / "checkpoint.mdpd"));
+}

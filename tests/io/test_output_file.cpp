@@ -1,6 +1,9 @@
 // Checked output: OutputFile reports every failed write naming the file, and a run whose output
 // cannot be written stops there, keeping what it wrote and its last good checkpoint.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,6 +14,7 @@
 #include "engine/simulation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/output_file.hpp"
+#include "io/output_lock.hpp"
 #include "io/state_checkpoint.hpp"
 #include "test_support.hpp"
 
@@ -122,3 +126,42 @@ TEST(OutputFile, RunStopsAtTheFirstThermoRowThatCannotBeWritten) {
   EXPECT_EQ(c.header.step, 20u);
 }
 
+// Two simulations of one process with the same output folder: the second is refused while the first
+// lives, and allowed once it is gone.
+TEST(OutputLock, SecondSimulationWithTheSameFolderIsRefused) {
+  const fs::path dir = fresh_dir("lock");
+  SimulationSpec spec = test::fluid_spec(5, 5, 5, 3.0);
+  spec.steps = 2;
+  RunOptions opt;
+  opt.out_dir = dir / "S";
+  {
+    Simulation first(spec, opt);
+    EXPECT_TRUE(fs::exists(dir / "S" / "mesodpd.lock"));
+    try {
+      Simulation second(spec, opt);
+      FAIL() << "a second simulation took the same output folder";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("in use by another simulation of this process"), std::string::npos)
+          << e.what();
+    }
+    // The refusal left the first one's lock in place.
+    EXPECT_TRUE(fs::exists(dir / "S" / "mesodpd.lock"));
+    first.run();
+  }
+  EXPECT_FALSE(fs::exists(dir / "S" / "mesodpd.lock"));
+  Simulation again(spec, opt);
+  EXPECT_NO_THROW(again.run());
+}
+
+TEST(OutputLock, AnotherOpenFileDescriptionCannotTakeAHeldLock) {
+  const fs::path dir = fresh_dir("flock");
+  OutputLock lock(dir);
+  ASSERT_TRUE(lock.held());
+  // What another process would try: its own open file and flock (the in-process list aside).
+  const int fd = ::open((dir / kOutputLockName).c_str(), O_RDWR);
+  ASSERT_GE(fd, 0);
+  EXPECT_NE(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  ::close(fd);
+  const std::string text = test::read_file(dir / kOutputLockName);
+  EXPECT_EQ(text.rfind("pid " + std::to_string(::getpid()) + " on host ", 0), 0u) << text;
+}
