@@ -68,6 +68,11 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   std::optional<Simulation> built;
   try {
     built.emplace(std::move(spec), opt);
+  } catch (const BlowUpError& e) {
+    // The initial state cannot be integrated (a bond past its maximum length in a data file): the
+    // code of a blow-up, found identically on every rank.
+    if (Comm::world().root()) fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBlowUp;
   } catch (const std::bad_alloc&) {
     // The only refusal before the first step that `check` cannot foresee: memory depends on the
     // machine and, under MPI, on the rank count.
@@ -249,6 +254,10 @@ int main(int argc, char** argv) {
       }
       return units_command(phys, to_si, from_si);
     }
+  } catch (const mesodpd::BlowUpError& e) {
+    // `check` of an initial state that a run could not integrate (a bond past its maximum length).
+    if (world.root()) fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBlowUp;
   } catch (const mesodpd::ConfigError& e) {
     // Configuration errors are found identically on every rank (or shared by Comm::on_root).
     if (world.root()) fmt::print(stderr, "error: {}\n", e.what());

@@ -17,6 +17,7 @@
 #include "analysis/thermo.hpp"
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
+#include "engine/blow_up_error.hpp"
 #include "engine/bonded_forces.hpp"
 #include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
@@ -26,19 +27,6 @@
 #include "parallel/halo.hpp"
 
 namespace mesodpd {
-
-// A run that went unstable: NaN or a particle faster than run.max_velocity.
-class BlowUpError : public std::runtime_error {
- public:
-  BlowUpError(std::uint64_t step, std::uint32_t id, const std::string& what)
-      : std::runtime_error(what), step_(step), id_(id) {}
-  std::uint64_t step() const { return step_; }
-  std::uint32_t particle_id() const { return id_; }
-
- private:
-  std::uint64_t step_;
-  std::uint32_t id_;
-};
 
 struct RunOptions {
   std::filesystem::path out_dir;                 // empty: write no files (library and test use)

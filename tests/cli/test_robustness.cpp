@@ -135,3 +135,42 @@ TEST(Robustness, StaleLockAndTemporariesOfKilledRunsAreCleanedUp) {
   EXPECT_TRUE(fs::exists(dir / "S" / "notes.tmp.txt"));
   EXPECT_TRUE(fs::exists(dir / "S" / "checkpoint.mdpd"));
 }
+
+namespace {
+
+// Two bonded beads and two loose ones in a box of 6 (a data file), with one FENE bond type.
+std::string bonded_data(double bond_length) {
+  return "two beads and a FENE bond\n\n4 atoms\n1 atom types\n1 bonds\n1 bond types\n"
+         "0 6 xlo xhi\n0 6 ylo yhi\n0 6 zlo zhi\n\nMasses\n\n1 1.0\n\nAtoms # molecular\n\n"
+         "1 1 1 1.0 3.0 3.0\n2 1 1 " + std::to_string(1.0 + bond_length) + " 3.0 3.0\n3 2 1 4.5 1.0 1.0\n"
+         "4 3 1 4.5 5.0 5.0\n\nBonds\n\n1 1 1 2\n";
+}
+
+std::string bonded_config(const std::string& data) {
+  return "[system]\nbox = [6.0, 6.0, 6.0]\n\n[[species]]\nname = \"A\"\n\n[init]\nlammps_data = \"" + data +
+         "\"\nvelocities = \"zero\"\n\n[[bond_type]]\nname = \"f\"\nstyle = \"fene\"\nk = 30.0\nrmax = 1.5\n\n"
+         "[run]\nsteps = 5\n\n[output]\nprogress = false\nthermo_every = 1\n";
+}
+
+}  // namespace
+
+// A FENE bond given longer than rmax in a data file: `run` stops with the blow-up code 3 naming the
+// bond, its ids and its length, before any step; `check` refuses the file the same way.
+TEST(Robustness, BondPastItsMaximumInTheDataFileIsRefusedByRunAndCheck) {
+  const fs::path dir = work_dir();
+  write_text(dir / "long.data", bonded_data(1.6));
+  write_text(dir / "long.toml", bonded_config("long.data"));
+  for (const std::string cmd : {"run long.toml --out out", "check long.toml"}) {
+    SCOPED_TRACE(cmd);
+    const CliResult r = run_mesodpd(dir, cmd);
+    EXPECT_EQ(r.code, 3) << r.out << r.err;
+    for (const std::string word : {"long.data", "bond 1 ", "particle ids 1 and 2", "1.6", "bond_type[0].rmax = 1.5", "FENE"})
+      EXPECT_TRUE(contains(r.err, word)) << "'" << word << "' not in: " << r.err;
+    EXPECT_FALSE(contains(r.err, "integrator.dt")) << r.err;
+  }
+  // A bond within its limit runs.
+  write_text(dir / "ok.data", bonded_data(1.2));
+  write_text(dir / "ok.toml", bonded_config("ok.data"));
+  EXPECT_EQ(run_mesodpd(dir, "check ok.toml").code, 0);
+  EXPECT_EQ(run_mesodpd(dir, "run ok.toml --out ok").code, 0);
+}
