@@ -67,6 +67,19 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
   p.n_ghost = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = data.atoms[i];
+    // Coordinates lie within the box bounds (lo <= x <= hi; unwrapped positions carry image flags):
+    // a coordinate beyond them is refused, never wrapped in silence, since it is most often a file
+    // written for another box or with other units.
+    const double r_file[3] = {a.x, a.y, a.z};
+    for (int d = 0; d < 3; ++d) {
+      const auto k = static_cast<std::size_t>(d);
+      if (!(r_file[d] >= data.lo[k] && r_file[d] <= data.hi[k]))
+        throw ConfigError(fmt::format("init.lammps_data: LAMMPS data file '{}', line {}: atom {} has {} = {}, outside the "
+                                      "box [{}, {}] of the file; give coordinates inside the box (unwrapped "
+                                      "positions go in with image flags: ix iy iz after x y z)",
+                                      spec.data_file, a.line, a.id, "xyz"[d], r_file[d], data.lo[k], data.hi[k]),
+                          "init.lammps_data");
+    }
     p.id[i] = a.id;
     p.species[i] = a.type - 1;
     p.x[i] = a.x - data.lo[0];

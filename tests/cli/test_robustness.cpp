@@ -174,3 +174,25 @@ TEST(Robustness, BondPastItsMaximumInTheDataFileIsRefusedByRunAndCheck) {
   EXPECT_EQ(run_mesodpd(dir, "check ok.toml").code, 0);
   EXPECT_EQ(run_mesodpd(dir, "run ok.toml --out ok").code, 0);
 }
+
+// An atom far outside the box of a data file is refused naming the file, its line and the atom, not
+// wrapped in silence; one on the upper bound is inside.
+TEST(Robustness, AtomOutsideTheBoxOfADataFileIsRefusedNamingTheLine) {
+  const fs::path dir = work_dir();
+  const std::string head = "atoms\n\n2 atoms\n1 atom types\n0 6 xlo xhi\n0 6 ylo yhi\n0 6 zlo zhi\n\nAtoms # atomic\n\n";
+  write_text(dir / "far.data", head + "1 1 1.0 1.0 1.0\n2 1 50.0 3.0 3.0\n");
+  write_text(dir / "edge.data", head + "1 1 1.0 1.0 1.0\n2 1 6.0 3.0 0.0\n");
+  auto config = [](const std::string& data) {
+    return "[system]\nbox = [6.0, 6.0, 6.0]\n\n[[species]]\nname = \"A\"\n\n[init]\nlammps_data = \"" + data +
+           "\"\nvelocities = \"zero\"\n\n[run]\nsteps = 2\n\n[output]\nprogress = false\n";
+  };
+  write_text(dir / "far.toml", config("far.data"));
+  write_text(dir / "edge.toml", config("edge.data"));
+  for (const std::string cmd : {"check far.toml", "run far.toml --out out"}) {
+    const CliResult r = run_mesodpd(dir, cmd);
+    EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
+    for (const std::string word : {"far.data", "line 12", "atom 2", "x = 50", "[0, 6]"})
+      EXPECT_TRUE(contains(r.err, word)) << "'" << word << "' not in: " << r.err;
+  }
+  EXPECT_EQ(run_mesodpd(dir, "check edge.toml").code, 0);
+}
