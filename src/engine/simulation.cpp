@@ -586,6 +586,9 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
     h.dt = spec_.dt;
     h.n_species = spec_.species.size();
     h.box = {box_.len.x, box_.len.y, box_.len.z};
+    h.has_config = true;
+    h.periodic = box_.periodic;
+    for (const SpeciesSpec& sp : spec_.species) h.species.push_back({sp.name, sp.mass, sp.count, sp.frozen});
     std::vector<std::byte> observer_state;
     if (observers_) {
       ByteWriter w;
@@ -594,6 +597,32 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
     }
     write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr, &bonds_.topology());
   });
+}
+
+void Simulation::check_restart_config(const StateHeader& h, const std::filesystem::path& file) const {
+  // The particles, their box and their species come from the checkpoint: a config that describes
+  // another system would be ignored in silence, so every such key must keep the checkpoint's value.
+  auto refuse = [&](const std::string& key, const std::string& ours, const std::string& theirs) {
+    throw ConfigError(fmt::format("{}: {} differs from the checkpoint's {} ({}); the checkpoint fixes it, so set {} = {} "
+                                  "to continue that run, or start a new run without --restart",
+                                  key, ours, theirs, file.string(), key, theirs),
+                      key);
+  };
+  auto triple = [](const auto& v) { return fmt::format("[{}, {}, {}]", v[0], v[1], v[2]); };
+  if (h.box != spec_.box) refuse("system.box", triple(spec_.box), triple(h.box));
+  if (!h.has_config) return;  // a format 5 checkpoint stores no more
+  if (h.periodic != spec_.periodic) refuse("system.periodic", triple(spec_.periodic), triple(h.periodic));
+  for (std::size_t k = 0; k < h.species.size() && k < spec_.species.size(); ++k) {
+    const CheckpointSpecies& theirs = h.species[k];
+    const SpeciesSpec& ours = spec_.species[k];
+    const std::string key = fmt::format("species[{}]", k);
+    if (ours.name != theirs.name) refuse(key + ".name", fmt::format("\"{}\"", ours.name), fmt::format("\"{}\"", theirs.name));
+    if (ours.mass != theirs.mass) refuse(key + ".mass", fmt::format("{}", ours.mass), fmt::format("{}", theirs.mass));
+    if (ours.count != theirs.count)
+      refuse(key + ".count", fmt::format("{} (from count or density)", ours.count), fmt::format("{}", theirs.count));
+    if (ours.frozen != theirs.frozen)
+      refuse(key + ".frozen", ours.frozen ? "true" : "false", theirs.frozen ? "true" : "false");
+  }
 }
 
 void Simulation::load_checkpoint(const std::filesystem::path& file) {
@@ -613,6 +642,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                                   "to continue that run",
                                   spec_.dt, h.dt, file.string(), h.dt),
                       "integrator.dt");
+  check_restart_config(h, file);
   step_ = h.step;
   neighbor_builds_before_ = h.neighbor_builds;
   box_.len = {h.box[0], h.box[1], h.box[2]};

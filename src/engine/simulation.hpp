@@ -22,6 +22,7 @@
 #include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
 #include "io/output_lock.hpp"
+#include "io/state_checkpoint.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "parallel/halo.hpp"
@@ -123,6 +124,8 @@ class Simulation {
   void check_health() const;
   [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
   void load_checkpoint(const std::filesystem::path& file);
+  // Refuses a config whose box, periodicity or species differ from the checkpoint's (naming the key).
+  void check_restart_config(const StateHeader& h, const std::filesystem::path& file) const;
 
   SimulationSpec spec_;
   RunOptions options_;

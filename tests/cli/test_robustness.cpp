@@ -196,3 +196,35 @@ TEST(Robustness, AtomOutsideTheBoxOfADataFileIsRefusedNamingTheLine) {
   }
   EXPECT_EQ(run_mesodpd(dir, "check edge.toml").code, 0);
 }
+
+// A restart whose config describes another system than the checkpoint holds is refused naming the
+// key and both values; the unchanged config continues.
+TEST(Robustness, RestartWithAChangedBoxOrSpeciesIsRefusedNamingTheKey) {
+  const fs::path dir = work_dir();
+  auto config = [](const std::string& box, const std::string& species) {
+    return "[system]\nbox = " + box + "\nseed = 7\n\n[[species]]\n" + species +
+           "\n\n[run]\nsteps = 20\n\n[output]\nprogress = false\nthermo_every = 5\n";
+  };
+  const std::string box = "[5.0, 5.0, 5.0]", species = "name = \"A\"\ndensity = 3.0";
+  write_text(dir / "base.toml", config(box, species));
+  ASSERT_EQ(run_mesodpd(dir, "run base.toml --out first --steps 10").code, 0);
+  struct Case {
+    std::string name, toml, key, theirs;
+  };
+  const std::vector<Case> cases = {
+      {"box", config("[5.0, 5.0, 6.0]", species), "system.box", "[5, 5, 5]"},
+      {"name", config(box, "name = \"B\"\ndensity = 3.0"), "species[0].name", "\"A\""},
+      {"mass", config(box, species + "\nmass = 2.0"), "species[0].mass", "1"},
+      {"count", config(box, "name = \"A\"\ncount = 370"), "species[0].count", "375"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    write_text(dir / "changed.toml", c.toml);
+    const CliResult r = run_mesodpd(dir, "run changed.toml --out again --restart first/checkpoint.mdpd");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("error: " + c.key + ": ", 0), 0u) << r.err;
+    EXPECT_TRUE(contains(r.err, "checkpoint's " + c.theirs)) << r.err;
+    EXPECT_TRUE(contains(r.err, "first/checkpoint.mdpd")) << r.err;
+  }
+  EXPECT_EQ(run_mesodpd(dir, "run base.toml --out first --restart first/checkpoint.mdpd").code, 0);
+}
