@@ -59,6 +59,10 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
     if (std::abs(data.masses[t] - spec.species[t].mass) > 1e-12 * spec.species[t].mass)
       throw ConfigError(fmt::format("species[{}].mass: {} differs from the mass {} of atom type {} in {}", t,
                                     spec.species[t].mass, data.masses[t], t + 1, spec.data_file));
+  if (data.atoms.empty())
+    throw ConfigError(fmt::format("init.lammps_data: the data file '{}' has no atoms: the system would be empty",
+                                  spec.data_file),
+                      "init.lammps_data");
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
   box.periodic = spec.periodic;
   const std::size_t n = data.atoms.size();

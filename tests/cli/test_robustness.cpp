@@ -228,3 +228,21 @@ TEST(Robustness, RestartWithAChangedBoxOrSpeciesIsRefusedNamingTheKey) {
   }
   EXPECT_EQ(run_mesodpd(dir, "run base.toml --out first --restart first/checkpoint.mdpd").code, 0);
 }
+
+// A system without particles is refused naming the key, by check and run alike.
+TEST(Robustness, EmptySystemIsRefusedNamingTheKey) {
+  const fs::path dir = work_dir();
+  const std::string head = "[system]\nbox = [5.0, 5.0, 5.0]\n\n";
+  write_text(dir / "one.toml", head + "[[species]]\nname = \"A\"\ncount = 0\n");
+  write_text(dir / "two.toml", head + "[[species]]\nname = \"A\"\ncount = 0\n\n[[species]]\nname = \"B\"\ncount = 0\n");
+  write_text(dir / "thin.toml", head + "[[species]]\nname = \"A\"\ndensity = 0.001\n");
+  for (const std::string cmd : {"check one.toml", "run one.toml --out o", "check two.toml", "run thin.toml --out o"}) {
+    SCOPED_TRACE(cmd);
+    const CliResult r = run_mesodpd(dir, cmd);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, "empty")) << r.err;
+    EXPECT_TRUE(contains(r.err, cmd.find("thin") != std::string::npos ? "species[0].density" : "species[0].count"))
+        << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "o" / "thermo.csv"));
+}
