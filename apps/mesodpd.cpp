@@ -103,6 +103,11 @@ int run_command(const std::string& config, const std::string& out, int threads, 
       fmt::print("done: {} steps in {:.1f} s ({:.3g} particle-steps/s)\n", sim.final_step() - first, secs,
                  steps_done * static_cast<double>(sim.total_particles()) / secs);
     }
+    // Every output is written; the exit code still tells a script that the numbers ran away.
+    if (const auto hot = sim.runaway_temperature()) {
+      if (comm.root()) fmt::print(stderr, "error: {}\n", *hot);
+      return kExitBlowUp;
+    }
   } catch (const BlowUpError& e) {
     // Every rank raises the same error (the health check is collective); the root reports it.
     if (comm.root())

@@ -96,6 +96,12 @@ class Observers final : public Stage {
   void save(ByteWriter& w) const;
   void load(ByteReader& r, const std::string& context);
 
+  // The mean measured temperature over the thermo rows of the second half of this run (the one the
+  // end-of-run warning judges; the same on every rank), or nothing before such a row.
+  std::optional<double> late_temperature() const {
+    if (late_samples_ == 0) return std::nullopt;
+    return late_temperature_sum_ / static_cast<double>(late_samples_);
+  }
   // Warnings found by finish() (on the root), each also a "warning: " line of the summary.
   const std::vector<std::string>& warnings() const { return warnings_; }
 

@@ -521,6 +521,18 @@ const std::vector<std::string>& Simulation::warnings() const {
   return observers_ ? observers_->warnings() : none;
 }
 
+std::optional<std::string> Simulation::runaway_temperature() const {
+  const double ratio = spec_.max_temperature_ratio;
+  if (!(ratio > 0) || !observers_) return std::nullopt;
+  const std::optional<double> t = observers_->late_temperature();
+  if (!t || (!(*t > ratio * spec_.kT) && std::isfinite(*t))) return std::nullopt;  // NaN and infinity are runaways
+  return fmt::format("the run ran away: its mean temperature over the second half of the run, {:.4g}, is {:.3g} "
+                     "times the target kT = {} (more than run.max_temperature_ratio = {}), so its results are not to "
+                     "be trusted; reduce integrator.dt or check the forces (set run.max_temperature_ratio = 0 to "
+                     "accept a run that heats up)",
+                     *t, *t / spec_.kT, spec_.kT, ratio);
+}
+
 ThermoState Simulation::thermo() {
   if (!sums_valid_) {
     // Pair sums of the current state. The forces the next step integrates with were evaluated at the

@@ -58,6 +58,10 @@ class Simulation {
   // Warnings about the finished run (on the root rank; also in run()'s summary): a mean temperature
   // away from kT. The command line prints them to stderr.
   const std::vector<std::string>& warnings() const;
+  // The runaway guard (run.max_temperature_ratio): a message when the mean temperature over the second
+  // half of this run's thermo rows exceeds that multiple of kT, nothing otherwise or when it is off.
+  // The same on every rank.
+  std::optional<std::string> runaway_temperature() const;
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),

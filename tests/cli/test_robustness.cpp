@@ -246,3 +246,22 @@ TEST(Robustness, EmptySystemIsRefusedNamingTheKey) {
   }
   EXPECT_FALSE(fs::exists(dir / "o" / "thermo.csv"));
 }
+
+// A run that ends far above kT (here dt = 0.15 heats the fluid to about 12 kT) exits with the blow-up
+// code after writing its outputs, unless run.max_temperature_ratio switches the guard off.
+TEST(Robustness, RunawayTemperatureExitsWithCodeThreeUnlessAllowed) {
+  const fs::path dir = work_dir();
+  const std::string hot = "[system]\nbox = [5.0, 5.0, 5.0]\nseed = 7\n\n[[species]]\nname = \"A\"\ndensity = 3.0\n\n"
+                          "[integrator]\ndt = 0.15\n\n[output]\nprogress = false\nthermo_every = 10\n\n[run]\nsteps = 200\n";
+  write_text(dir / "hot.toml", hot);
+  const CliResult r = run_mesodpd(dir, "run hot.toml --out hot");
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_TRUE(contains(r.err, "error: the run ran away")) << r.err;
+  EXPECT_TRUE(contains(r.err, "run.max_temperature_ratio = 2")) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "hot" / "checkpoint.mdpd"));
+  write_text(dir / "allowed.toml", hot + "max_temperature_ratio = 0.0\n");
+  const CliResult allowed = run_mesodpd(dir, "run allowed.toml --out allowed");
+  EXPECT_EQ(allowed.code, 0) << allowed.err;
+  write_text(dir / "wider.toml", hot + "max_temperature_ratio = 20.0\n");
+  EXPECT_EQ(run_mesodpd(dir, "run wider.toml --out wider").code, 0);
+}
