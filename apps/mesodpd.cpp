@@ -68,6 +68,11 @@ int run_command(const std::string& config, const std::string& out, int threads, 
   std::optional<Simulation> built;
   try {
     built.emplace(std::move(spec), opt);
+  } catch (const BlowUpError& e) {
+    // The initial state cannot be integrated (a bond past its maximum length in a data file): the
+    // code of a blow-up, found identically on every rank.
+    if (Comm::world().root()) fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBlowUp;
   } catch (const std::bad_alloc&) {
     // The only refusal before the first step that `check` cannot foresee: memory depends on the
     // machine and, under MPI, on the rank count.
@@ -98,11 +103,23 @@ int run_command(const std::string& config, const std::string& out, int threads, 
       fmt::print("done: {} steps in {:.1f} s ({:.3g} particle-steps/s)\n", sim.final_step() - first, secs,
                  steps_done * static_cast<double>(sim.total_particles()) / secs);
     }
+    // Every output is written; the exit code still tells a script that the numbers ran away.
+    if (const auto hot = sim.runaway_temperature()) {
+      if (comm.root()) fmt::print(stderr, "error: {}\n", *hot);
+      return kExitBlowUp;
+    }
   } catch (const BlowUpError& e) {
     // Every rank raises the same error (the health check is collective); the root reports it.
     if (comm.root())
       fmt::print(stderr, "\nerror: {}\nthe last good checkpoint (if any) is kept in {}\n", e.what(), out);
     return kExitBlowUp;
+  } catch (const ConfigError& e) {
+    // A file of the output could not be written (collective, like the health check): the run stops
+    // there, and what it had written before (checkpoints are replaced atomically) stays.
+    if (comm.root())
+      fmt::print(stderr, "\nerror: {}\nthe run stopped at step {}; the last good checkpoint (if any) is kept in {}\n",
+                 e.what(), sim.current_step(), out);
+    return kExitConfig;
   }
   return 0;
 }
@@ -242,6 +259,10 @@ int main(int argc, char** argv) {
       }
       return units_command(phys, to_si, from_si);
     }
+  } catch (const mesodpd::BlowUpError& e) {
+    // `check` of an initial state that a run could not integrate (a bond past its maximum length).
+    if (world.root()) fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBlowUp;
   } catch (const mesodpd::ConfigError& e) {
     // Configuration errors are found identically on every rank (or shared by Comm::on_root).
     if (world.root()) fmt::print(stderr, "error: {}\n", e.what());

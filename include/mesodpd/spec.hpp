@@ -315,6 +315,7 @@ struct SimulationSpec {
   std::uint64_t steps = 1000;                   // [run] steps
   double max_velocity = 1.0e3;                  // [run] max_velocity: blow-up threshold on |v|
   double max_density = 100.0;                   // [run] max_density: blow-up threshold on the local density (mdpd)
+  double max_temperature_ratio = 2.0;           // [run] max_temperature_ratio: a hotter end is a runaway (0: off)
   int threads = 0;                              // [run] threads (0 = OpenMP default)
 
   NeighborMethod neighbor = NeighborMethod::Cells;  // [neighbor] method

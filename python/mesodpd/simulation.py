@@ -124,6 +124,20 @@ class Simulation:
         self.stopped = False
         self.particles = LocalParticles(self)
 
+    def close(self):
+        """Ends the simulation: closes its files and releases its output folder, so that another
+        Simulation may write there (a live run holds its folder; a second one with the same ``out``
+        is refused). The simulation cannot be used afterwards. Also ``with Simulation(...) as sim:``."""
+        self._core = None
+        self._callbacks = []
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
     @classmethod
     def from_toml(cls, path, out=None, **kwargs):
         """Build from a TOML file (the same file ``mesodpd run`` takes)."""

@@ -52,6 +52,18 @@ def test_a_restart_with_another_seed_or_dt_names_the_key(tmp_path):
         assert e.value.key == f"{section}.{key}", str(e.value)
 
 
+def test_two_simulations_with_the_same_output_folder_are_refused(tmp_path):
+    first = mesodpd.Simulation.from_string(SMALL, out=tmp_path / "S")
+    with pytest.raises(mesodpd.SpecError) as e:
+        mesodpd.Simulation.from_string(SMALL, out=tmp_path / "S")
+    assert "is in use by another simulation of this process" in str(e.value), str(e.value)
+    first.step(2)  # the first one keeps its folder and runs on
+    first.close()
+    with mesodpd.Simulation.from_string(SMALL, out=tmp_path / "S") as again:  # free again once it is closed
+        again.step(1)
+    mesodpd.Simulation.from_string(SMALL, out=tmp_path / "S").step(1)
+
+
 CTRL_C_RUN = """
 import mesodpd
 spec = mesodpd.Spec(system={"box": [15.0, 15.0, 15.0], "seed": 1}, species=[{"name": "A", "density": 3.0}],

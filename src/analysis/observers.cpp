@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -125,12 +126,12 @@ Observers::Observers(const SimulationSpec& spec, ObserverSettings settings, cons
       if (restarted && std::filesystem::exists(thermo_path)) trim_thermo_csv(thermo_path, start.step);
       const bool append =
           restarted && std::filesystem::exists(thermo_path) && std::filesystem::file_size(thermo_path) > 0;
-      thermo_.open(thermo_path, append ? std::ios::app : std::ios::trunc);
-      if (!thermo_) throw ConfigError(fmt::format("{}: cannot open for writing", thermo_path.string()));
+      thermo_.open(thermo_path, append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
       if (!append) {
         thermo_ << thermo_csv_header();
         for (const ThermoColumn& c : opt_.columns) thermo_ << ',' << c.name;
         thermo_ << '\n';
+        thermo_.flush();
       }
     }
     const Box& box = start.box;
@@ -301,10 +302,12 @@ void Observers::observe(const StepContext& ctx) {
       extra += fmt::format(",{:.12g}", value);
     }
     const double temperature = opt_.temperature_column >= 0 ? column_temperature : t.temperature_transverse;
-    if (comm.root() && files()) {
-      thermo_ << thermo_csv_row(t) << extra << '\n';
-      thermo_.flush();
-    }
+    // Written before the row is counted: a row that could not be written stops the run (on every rank).
+    if (files())
+      comm.on_root([&] {
+        thermo_ << thermo_csv_row(t) << extra << '\n';
+        thermo_.flush();
+      });
     history_.push_back(t);
     temperature_sum_ += temperature;
     if (step > late_from_) {
@@ -349,6 +352,8 @@ void Observers::observe(const StepContext& ctx) {
   if (!(rdf_due || msd_due || dump_due || droplet_due || stress_due)) return;
   // The whole system in increasing id on the root (collective).
   gather_by_id(ctx.particles, comm, ctx.total_particles, snapshot_);
+  // The frame is written by the root; a failed write stops every rank.
+  if (dump_due) comm.on_root([&] { write_frame(step, ctx, snapshot_); });
   if (!comm.root()) return;
   const ParticleData& p = snapshot_;
   const std::size_t n = p.n_local;
@@ -373,7 +378,6 @@ void Observers::observe(const StepContext& ctx) {
     opt_.virial_terms(p, ctx.box, terms_);
     stress_->sample(p, ctx.species_mass, frozen_, terms_);
   }
-  if (dump_due) write_frame(step, ctx, p);
 }
 
 std::string Observers::finish(const StepContext& ctx) {

@@ -3,7 +3,6 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,6 +20,7 @@
 #include "io/byte_buffer.hpp"
 #include "io/gsd_writer.hpp"
 #include "io/lammps_dump_writer.hpp"
+#include "io/output_file.hpp"
 #include "io/progress.hpp"
 #include "mesodpd/spec.hpp"
 
@@ -96,6 +96,12 @@ class Observers final : public Stage {
   void save(ByteWriter& w) const;
   void load(ByteReader& r, const std::string& context);
 
+  // The mean measured temperature over the thermo rows of the second half of this run (the one the
+  // end-of-run warning judges; the same on every rank), or nothing before such a row.
+  std::optional<double> late_temperature() const {
+    if (late_samples_ == 0) return std::nullopt;
+    return late_temperature_sum_ / static_cast<double>(late_samples_);
+  }
   // Warnings found by finish() (on the root), each also a "warning: " line of the summary.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -121,7 +127,7 @@ class Observers final : public Stage {
 
   const SimulationSpec& spec_;
   ObserverSettings opt_;
-  std::ofstream thermo_;
+  OutputFile thermo_;
   std::optional<PoiseuilleProfile> profile_;
   std::optional<RadialDistribution> rdf_;
   std::optional<MeanSquaredDisplacement> msd_;

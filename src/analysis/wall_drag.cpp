@@ -4,11 +4,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <fstream>
 
 #include "boundary/walls.hpp"
 #include "io/atomic_file.hpp"
 #include "io/byte_buffer.hpp"
+#include "io/output_file.hpp"
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
@@ -21,9 +21,9 @@ std::int64_t fixed(double v) { return static_cast<std::int64_t>(std::llround(v *
 // Opens `path` for a new run (header written) unless a restart continues it.
 void start_csv(const std::filesystem::path& path, bool restarted, const std::string& header) {
   if (restarted && std::filesystem::exists(path)) return;
-  std::ofstream f(path, std::ios::trunc);
-  if (!f) throw ConfigError(fmt::format("{}: cannot open for writing", path.string()));
+  OutputFile f(path, OutputFile::Mode::Truncate);
   f << header << "\n";
+  f.close();
 }
 
 }  // namespace
@@ -81,12 +81,14 @@ void WallDrag::run(StepContext& ctx) {
   blocks_.add(row.data());
   for (std::size_t k = 0; k < row.size(); ++k) total_[k] += row[k];
   ++samples_;
-  if (!out_dir_.empty() && ctx.comm.root()) {
-    std::ofstream f(out_dir_ / "drag.csv", std::ios::app);
-    f << ctx.step;
-    for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
-    f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
-  }
+  if (!out_dir_.empty())
+    ctx.comm.on_root([&] {
+      OutputFile f(out_dir_ / "drag.csv", OutputFile::Mode::Append);
+      f << ctx.step;
+      for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
+      f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
+      f.close();
+    });
 }
 
 void WallDrag::save(ByteWriter& w) const {
@@ -198,12 +200,16 @@ AdaptiveLog::AdaptiveLog(const SimulationSpec& spec, const Walls& walls, std::fi
 }
 
 void AdaptiveLog::run(StepContext& ctx) {
-  if (out_dir_.empty() || !ctx.comm.root() || walls_.last_adaptive_update() != ctx.step) return;
-  std::ofstream f(out_dir_ / "adaptive.csv", std::ios::app);
-  f << ctx.step;
-  for (double x : walls_.adaptive_potential()) f << fmt::format(",{:.8g}", x);
-  for (double x : walls_.adaptive_density()) f << fmt::format(",{:.6g}", x);
-  f << "\n";
+  // The update step is the same on every rank, so the root's write is collective as on_root needs.
+  if (out_dir_.empty() || walls_.last_adaptive_update() != ctx.step) return;
+  ctx.comm.on_root([&] {
+    OutputFile f(out_dir_ / "adaptive.csv", OutputFile::Mode::Append);
+    f << ctx.step;
+    for (double x : walls_.adaptive_potential()) f << fmt::format(",{:.8g}", x);
+    for (double x : walls_.adaptive_density()) f << fmt::format(",{:.6g}", x);
+    f << "\n";
+    f.close();
+  });
 }
 
 }  // namespace mesodpd

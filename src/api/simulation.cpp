@@ -35,7 +35,11 @@ Simulation::Simulation(SimulationSpec spec, Options options) {
   run.steps = options.final_step;
   run.progress = options.progress;
   run.record = options.record;
-  impl_ = std::make_unique<Impl>(validated(std::move(spec)), std::move(run));
+  try {
+    impl_ = std::make_unique<Impl>(validated(std::move(spec)), std::move(run));
+  } catch (const mesodpd::BlowUpError& e) {  // an initial state that cannot be integrated
+    throw BlowUpError(e.what(), e.step(), e.particle_id());
+  }
 }
 
 Simulation::~Simulation() = default;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "boundary/geometry.hpp"
+#include "engine/blow_up_error.hpp"
 #include "core/philox.hpp"
 #include "io/lammps_data_reader.hpp"
 
@@ -58,6 +59,10 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
     if (std::abs(data.masses[t] - spec.species[t].mass) > 1e-12 * spec.species[t].mass)
       throw ConfigError(fmt::format("species[{}].mass: {} differs from the mass {} of atom type {} in {}", t,
                                     spec.species[t].mass, data.masses[t], t + 1, spec.data_file));
+  if (data.atoms.empty())
+    throw ConfigError(fmt::format("init.lammps_data: the data file '{}' has no atoms: the system would be empty",
+                                  spec.data_file),
+                      "init.lammps_data");
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
   box.periodic = spec.periodic;
   const std::size_t n = data.atoms.size();
@@ -66,6 +71,19 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
   p.n_ghost = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = data.atoms[i];
+    // Coordinates lie within the box bounds (lo <= x <= hi; unwrapped positions carry image flags):
+    // a coordinate beyond them is refused, never wrapped in silence, since it is most often a file
+    // written for another box or with other units.
+    const double r_file[3] = {a.x, a.y, a.z};
+    for (int d = 0; d < 3; ++d) {
+      const auto k = static_cast<std::size_t>(d);
+      if (!(r_file[d] >= data.lo[k] && r_file[d] <= data.hi[k]))
+        throw ConfigError(fmt::format("init.lammps_data: LAMMPS data file '{}', line {}: atom {} has {} = {}, outside the "
+                                      "box [{}, {}] of the file; give coordinates inside the box (unwrapped "
+                                      "positions go in with image flags: ix iy iz after x y z)",
+                                      spec.data_file, a.line, a.id, "xyz"[d], r_file[d], data.lo[k], data.hi[k]),
+                          "init.lammps_data");
+    }
     p.id[i] = a.id;
     p.species[i] = a.type - 1;
     p.x[i] = a.x - data.lo[0];
@@ -258,6 +276,7 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
                                     spec.data_file));
     if (spec.velocities == VelocityInit::Maxwell) assign_maxwell_velocities(spec, p);
     if (spec.velocities == VelocityInit::Zero) zero_velocities(p);
+    if (topology != nullptr) check_initial_bonds(spec, box, p, *topology);
     return p.n_local;
   }
   box.len = {spec.box[0], spec.box[1], spec.box[2]};
@@ -410,7 +429,37 @@ std::uint64_t check_initial_state(const SimulationSpec& spec) {
   }
   Box box;
   ParticleData p;
-  return make_initial_state(spec, box, p);
+  Topology topology;  // read, so that its bonds are checked as a run checks them
+  return make_initial_state(spec, box, p, {}, spec.data_file.empty() ? nullptr : &topology);
+}
+
+void check_initial_bonds(const SimulationSpec& spec, const Box& box, const ParticleData& p, const Topology& topology) {
+  if (topology.bonds.empty()) return;
+  std::uint32_t max_id = 0;
+  for (std::size_t i = 0; i < p.n_local; ++i) max_id = std::max(max_id, p.id[i]);
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> at(static_cast<std::size_t>(max_id) + 1, kNone);
+  for (std::size_t i = 0; i < p.n_local; ++i) at[p.id[i]] = i;
+  for (std::size_t k = 0; k < topology.bonds.size(); ++k) {
+    const Bond& b = topology.bonds[k];
+    if (b.type < 0 || static_cast<std::size_t>(b.type) >= spec.bond_types.size()) continue;  // refused elsewhere
+    const BondTypeSpec& type = spec.bond_types[static_cast<std::size_t>(b.type)];
+    if (type.style == BondStyleSpec::Harmonic) continue;
+    if (b.a > max_id || b.b > max_id || at[b.a] == kNone || at[b.b] == kNone) continue;
+    const std::size_t i = at[b.a], j = at[b.b];
+    const double dx = minimum_image(p.x[i] - p.x[j], box.image_len(0), box.half_image_len(0));
+    const double dy = minimum_image(p.y[i] - p.y[j], box.image_len(1), box.half_image_len(1));
+    const double dz = minimum_image(p.z[i] - p.z[j], box.image_len(2), box.half_image_len(2));
+    const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (r < type.rmax) continue;
+    const std::string source = spec.data_file.empty() ? std::string("the initial state") : spec.data_file;
+    throw BlowUpError(0, std::min(b.a, b.b),
+                      fmt::format("{}: bond {} (particle ids {} and {}, type {}) is {} long at the start, at or past "
+                                  "its maximum length bond_type[{}].rmax = {} ({}), where the force is infinite; "
+                                  "shorten the bond in the data file or raise bond_type[{}].rmax",
+                                  source, k + 1, b.a, b.b, b.type + 1, r, b.type, type.rmax,
+                                  type.style == BondStyleSpec::Fene ? "FENE" : "worm-like chain", b.type));
+  }
 }
 
 void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {

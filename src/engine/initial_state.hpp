@@ -33,7 +33,14 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
 // init.lammps_data, reads the file and checks it against the spec by the same code make_initial_state
 // runs (atom types, box, masses, velocities), so a run refuses nothing here that this accepted. Returns
 // the number of particles the run will start with. The spec must be validated (validate(spec)).
+// Also checks the bonds of a data file (check_initial_bonds).
 std::uint64_t check_initial_state(const SimulationSpec& spec);
+
+// Throws BlowUpError (step 0, the exit code of a blow-up) naming the first FENE or worm-like-chain bond
+// of `topology` whose minimum-image length in `box` is at or past its maximum (bond_type[k].rmax), its
+// particle ids and its length: such a bond has an infinite force from the first step. `p` holds every
+// particle (n_local); make_initial_state runs this on a data file's bonds.
+void check_initial_bonds(const SimulationSpec& spec, const Box& box, const ParticleData& p, const Topology& topology);
 
 // Draws Maxwell-Boltzmann velocities at kT, removes the centre-of-mass velocity and rescales so the
 // kinetic temperature (3N - 3 degrees of freedom) is exactly kT.

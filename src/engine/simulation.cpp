@@ -73,6 +73,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
       forces_(make_pair_backend(make_pair_laws(spec_),
                                 NoiseSettings{spec_.seed, spec_.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform})) {
   if (spec_.species.empty()) throw ConfigError("species: at least one species is required");
+  // One run per output folder, taken before anything is written there (the root writes every file).
+  if (!options_.out_dir.empty()) Comm::world().on_root([&] { output_lock_.emplace(options_.out_dir); });
   density_ = make_density_settings(spec_);
   // Cells (and so ghost layers) also reach as far as the longest bond allowed (bonds.reach).
   nlist_ = NeighborList(NeighborSettings{std::max(forces_->max_cutoff(), spec_.bond_reach),
@@ -454,6 +456,18 @@ const std::vector<std::string>& Simulation::warnings() const {
   return observers_ ? observers_->warnings() : none;
 }
 
+std::optional<std::string> Simulation::runaway_temperature() const {
+  const double ratio = spec_.max_temperature_ratio;
+  if (!(ratio > 0) || !observers_) return std::nullopt;
+  const std::optional<double> t = observers_->late_temperature();
+  if (!t || (!(*t > ratio * spec_.kT) && std::isfinite(*t))) return std::nullopt;  // NaN and infinity are runaways
+  return fmt::format("the run ran away: its mean temperature over the second half of the run, {:.4g}, is {:.3g} "
+                     "times the target kT = {} (more than run.max_temperature_ratio = {}), so its results are not to "
+                     "be trusted; reduce integrator.dt or check the forces (set run.max_temperature_ratio = 0 to "
+                     "accept a run that heats up)",
+                     *t, *t / spec_.kT, spec_.kT, ratio);
+}
+
 ThermoState Simulation::thermo() {
   if (!sums_valid_) {
     // Pair sums of the current state. The forces the next step integrates with were evaluated at the
@@ -495,8 +509,10 @@ std::string Simulation::finish() {
                            bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
+  // The summaries are files of the root (Observers::finish does nothing elsewhere); a failed write stops
+  // every rank. The models' summaries are collective themselves.
   const StepContext ctx = context();
-  if (observers_) summary += observers_->finish(ctx);
+  if (observers_) halo_.comm().on_root([&] { summary += observers_->finish(ctx); });
   for (const Summary& part : summaries_) summary += part(ctx);
   return summary;
 }
@@ -513,6 +529,9 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
     h.dt = spec_.dt;
     h.n_species = spec_.species.size();
     h.box = {box_.len.x, box_.len.y, box_.len.z};
+    h.has_config = true;
+    h.periodic = box_.periodic;
+    for (const SpeciesSpec& sp : spec_.species) h.species.push_back({sp.name, sp.mass, sp.count, sp.frozen});
     std::vector<std::byte> observer_state;
     if (observers_) {
       ByteWriter w;
@@ -521,6 +540,32 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
     }
     write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr, &bonds_.topology());
   });
+}
+
+void Simulation::check_restart_config(const StateHeader& h, const std::filesystem::path& file) const {
+  // The particles, their box and their species come from the checkpoint: a config that describes
+  // another system would be ignored in silence, so every such key must keep the checkpoint's value.
+  auto refuse = [&](const std::string& key, const std::string& ours, const std::string& theirs) {
+    throw ConfigError(fmt::format("{}: {} differs from the checkpoint's {} ({}); the checkpoint fixes it, so set {} = {} "
+                                  "to continue that run, or start a new run without --restart",
+                                  key, ours, theirs, file.string(), key, theirs),
+                      key);
+  };
+  auto triple = [](const auto& v) { return fmt::format("[{}, {}, {}]", v[0], v[1], v[2]); };
+  if (h.box != spec_.box) refuse("system.box", triple(spec_.box), triple(h.box));
+  if (!h.has_config) return;  // a format 5 checkpoint stores no more
+  if (h.periodic != spec_.periodic) refuse("system.periodic", triple(spec_.periodic), triple(h.periodic));
+  for (std::size_t k = 0; k < h.species.size() && k < spec_.species.size(); ++k) {
+    const CheckpointSpecies& theirs = h.species[k];
+    const SpeciesSpec& ours = spec_.species[k];
+    const std::string key = fmt::format("species[{}]", k);
+    if (ours.name != theirs.name) refuse(key + ".name", fmt::format("\"{}\"", ours.name), fmt::format("\"{}\"", theirs.name));
+    if (ours.mass != theirs.mass) refuse(key + ".mass", fmt::format("{}", ours.mass), fmt::format("{}", theirs.mass));
+    if (ours.count != theirs.count)
+      refuse(key + ".count", fmt::format("{} (from count or density)", ours.count), fmt::format("{}", theirs.count));
+    if (ours.frozen != theirs.frozen)
+      refuse(key + ".frozen", ours.frozen ? "true" : "false", theirs.frozen ? "true" : "false");
+  }
 }
 
 void Simulation::load_checkpoint(const std::filesystem::path& file) {
@@ -540,6 +585,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                                   "to continue that run",
                                   spec_.dt, h.dt, file.string(), h.dt),
                       "integrator.dt");
+  check_restart_config(h, file);
   step_ = h.step;
   neighbor_builds_before_ = h.neighbor_builds;
   box_.len = {h.box[0], h.box[1], h.box[2]};

@@ -17,28 +17,18 @@
 #include "analysis/thermo.hpp"
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
+#include "engine/blow_up_error.hpp"
 #include "engine/bonded_forces.hpp"
 #include "engine/installer.hpp"
 #include "engine/pair_backend.hpp"
 #include "integrate/integrator.hpp"
+#include "io/output_lock.hpp"
+#include "io/state_checkpoint.hpp"
 #include "mesodpd/spec.hpp"
 #include "neighbor/neighbor_list.hpp"
 #include "parallel/halo.hpp"
 
 namespace mesodpd {
-
-// A run that went unstable: NaN or a particle faster than run.max_velocity.
-class BlowUpError : public std::runtime_error {
- public:
-  BlowUpError(std::uint64_t step, std::uint32_t id, const std::string& what)
-      : std::runtime_error(what), step_(step), id_(id) {}
-  std::uint64_t step() const { return step_; }
-  std::uint32_t particle_id() const { return id_; }
-
- private:
-  std::uint64_t step_;
-  std::uint32_t id_;
-};
 
 struct RunOptions {
   std::filesystem::path out_dir;                 // empty: write no files (library and test use)
@@ -70,6 +60,10 @@ class Simulation {
   // Warnings about the finished run (on the root rank; also in run()'s summary): a mean temperature
   // away from kT. The command line prints them to stderr.
   const std::vector<std::string>& warnings() const;
+  // The runaway guard (run.max_temperature_ratio): a message when the mean temperature over the second
+  // half of this run's thermo rows exceeds that multiple of kT, nothing otherwise or when it is off.
+  // The same on every rank.
+  std::optional<std::string> runaway_temperature() const;
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),
@@ -145,9 +139,13 @@ class Simulation {
   void check_health() const;
   [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
   void load_checkpoint(const std::filesystem::path& file);
+  // Refuses a config whose box, periodicity or species differ from the checkpoint's (naming the key).
+  void check_restart_config(const StateHeader& h, const std::filesystem::path& file) const;
 
   SimulationSpec spec_;
   RunOptions options_;
+  // The output folder's lock (on the root, with an out_dir), held for the simulation's lifetime.
+  std::optional<OutputLock> output_lock_;
   Box box_;
   ParticleData p_;
   NeighborList nlist_;

@@ -12,6 +12,7 @@
 #include <string>
 #include <system_error>
 
+#include "io/output_file.hpp"
 #include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
@@ -52,6 +53,8 @@ void write_file_atomically(const std::filesystem::path& path,
         throw std::system_error(errno, std::generic_category(), "cannot create " + quoted(tmp));
       }
       writer(out);
+      if (const int err = injected_output_fault(path); err != 0)
+        throw std::system_error(err, std::generic_category(), "write");
       out.flush();
       if (!out) throw std::runtime_error("write error on " + quoted(tmp));
       out.close();

@@ -318,6 +318,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
         a.iy = static_cast<std::int32_t>(p.integer(line, base + 1, "image flag iy", lo, hi));
         a.iz = static_cast<std::int32_t>(p.integer(line, base + 2, "image flag iz", lo, hi));
       }
+      a.line = line.number;
       const auto [it, inserted] = line_of_id.emplace(a.id, line.number);
       if (!inserted) {
         p.fail(line, "duplicate atom id " + std::to_string(a.id) + " (first at line " +

@@ -15,6 +15,7 @@ struct LammpsAtom {
   double x = 0, y = 0, z = 0;  // as written; not wrapped into the box
   std::int32_t ix = 0, iy = 0, iz = 0;  // image flags, 0 when the file has none
   std::int32_t mol = 0;        // molecule id (styles bond, angle, molecular, full), 0 otherwise
+  std::size_t line = 0;        // 1-based line of the file, for messages about the atom
 };
 
 // One line of the Bonds (atoms a, b) or Angles (a, b, c; b the centre) section.

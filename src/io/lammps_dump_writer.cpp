@@ -3,9 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstring>
-
 #include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
@@ -13,11 +10,7 @@ namespace mesodpd {
 LammpsDumpWriter::LammpsDumpWriter(std::filesystem::path path, const std::vector<std::string>& fields,
                                    bool append)
     : path_(std::move(path)), fields_(parse_trajectory_fields(fields, path_)) {
-  out_.open(path_, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
-  if (!out_) {
-    throw ConfigError("cannot open LAMMPS dump file '" + path_.string() +
-                      "' for writing: " + std::strerror(errno));
-  }
+  out_.open(path_, append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
 }
 
 void LammpsDumpWriter::write_frame(const FrameView& f) {
@@ -91,9 +84,7 @@ void LammpsDumpWriter::write_frame(const FrameView& f) {
     buf.push_back('\n');
   }
 
-  out_.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-  out_.flush();
-  if (!out_) throw ConfigError("write error on LAMMPS dump file '" + path_.string() + "'");
+  out_.write(std::string_view(buf.data(), buf.size()));
   ++frames_written_;
 }
 

@@ -3,11 +3,11 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "io/frame.hpp"
+#include "io/output_file.hpp"
 
 namespace mesodpd {
 
@@ -26,7 +26,8 @@ class LammpsDumpWriter {
   // go after those already in the file (restarts); otherwise the file is truncated.
   LammpsDumpWriter(std::filesystem::path path, const std::vector<std::string>& fields, bool append = false);
 
-  // Writes one frame and flushes it, so a crashed run keeps every completed frame.
+  // Writes one frame and flushes it, so a crashed run keeps every completed frame. Throws OutputError
+  // naming the file when the frame could not be written whole.
   void write_frame(const FrameView& frame);
 
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
@@ -35,7 +36,7 @@ class LammpsDumpWriter {
  private:
   std::filesystem::path path_;
   FieldSet fields_;
-  std::ofstream out_;
+  OutputFile out_;
   std::uint64_t frames_written_ = 0;
 };
 

@@ -54,6 +54,18 @@ void write_state_checkpoint(const std::filesystem::path& file, const StateHeader
     for (const Angle& a : topology->angles)
       words.insert(words.end(), {a.a, a.b, a.c, static_cast<std::uint32_t>(a.type)});
   w.put_vector(words);
+  // The configuration that the particles belong to, if the writer gave it.
+  w.put<std::uint8_t>(h.has_config ? 1 : 0);
+  if (h.has_config) {
+    for (const bool p : h.periodic) w.put<std::uint8_t>(p ? 1 : 0);
+    w.put<std::uint64_t>(h.species.size());
+    for (const CheckpointSpecies& sp : h.species) {
+      w.put_string(sp.name);
+      w.put<double>(sp.mass);
+      w.put<std::uint64_t>(sp.count);
+      w.put<std::uint8_t>(sp.frozen ? 1 : 0);
+    }
+  }
   write_checkpoint_file(file, w.bytes());
 }
 
@@ -64,11 +76,12 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
   const auto tag = r.get<std::uint64_t>();
   if ((tag & ~std::uint64_t{0xff}) != kTagStem)
     throw ConfigError(fmt::format("{}: not a mesodpd state checkpoint", where));
-  if (tag != tag_of(kStateFormatVersion))
+  const int version = static_cast<int>(tag & 0xff) - '0';
+  if (version < kOldestReadableStateFormat || version > kStateFormatVersion)
     throw ConfigError(fmt::format(
-        "{}: state format {} cannot be read by this mesodpd, which reads format {} only; continue that run "
-        "with the mesodpd that wrote it, or start it again",
-        where, static_cast<int>(tag & 0xff) - '0', kStateFormatVersion));
+        "{}: state format {} cannot be read by this mesodpd, which reads format {} (and format {}); continue "
+        "that run with the mesodpd that wrote it, or start it again",
+        where, version, kStateFormatVersion, kOldestReadableStateFormat));
   StateCheckpoint c;
   StateHeader& h = c.header;
   h.step = r.get<std::uint64_t>();
@@ -118,6 +131,20 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
     c.topology.bonds.push_back({bonds[k], bonds[k + 1], static_cast<std::int32_t>(bonds[k + 2])});
   for (std::size_t k = 0; k < angles.size(); k += 4)
     c.topology.angles.push_back({angles[k], angles[k + 1], angles[k + 2], static_cast<std::int32_t>(angles[k + 3])});
+  if (version >= 6 && r.get<std::uint8_t>() != 0) {
+    h.has_config = true;
+    for (bool& p : h.periodic) p = r.get<std::uint8_t>() != 0;
+    const auto n_species = r.get<std::uint64_t>();
+    if (n_species != h.n_species) throw ConfigError(fmt::format("{}: damaged species section", where));
+    for (std::uint64_t k = 0; k < n_species; ++k) {
+      CheckpointSpecies sp;
+      sp.name = r.get_string();
+      sp.mass = r.get<double>();
+      sp.count = r.get<std::uint64_t>();
+      sp.frozen = r.get<std::uint8_t>() != 0;
+      h.species.push_back(std::move(sp));
+    }
+  }
   r.expect_end();
   return c;
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/particle_data.hpp"
@@ -15,8 +16,18 @@ namespace mesodpd {
 
 // Version of the payload layout, stored as the tag "MESODPD<version>". 3: fixed list of arrays (up
 // to this refactor); 4: named, typed fields from the particle field list; 5: the molecular topology
-// (bonds and angles by global id) after the observers' section.
-inline constexpr int kStateFormatVersion = 5;
+// (bonds and angles by global id) after the observers' section; 6: the run's configuration that the
+// checkpoint fixes (periodicity, species) at the end. Format 5 is still read (without that part).
+inline constexpr int kStateFormatVersion = 6;
+inline constexpr int kOldestReadableStateFormat = 5;
+
+// A species as the run that wrote the checkpoint configured it ([[species]] name, mass, count, frozen).
+struct CheckpointSpecies {
+  std::string name;
+  double mass = 0;
+  std::uint64_t count = 0;
+  bool frozen = false;
+};
 
 struct StateHeader {
   std::uint64_t step = 0;
@@ -25,6 +36,10 @@ struct StateHeader {
   double dt = 0;
   std::uint64_t n_species = 0;
   std::array<double, 3> box{};
+  // The configuration the particles belong to (format 6 on; has_config is false for a format 5 file).
+  bool has_config = false;
+  std::array<bool, 3> periodic{true, true, true};
+  std::vector<CheckpointSpecies> species;
 };
 
 // What a checkpoint holds: the header, every particle (locals only, n_local of them, in the file's

@@ -667,6 +667,16 @@ void validate_engine_limits(SimulationSpec& spec) {
                          std::numeric_limits<std::uint32_t>::max()));
       }
     }
+    // A run of nothing would end with exit 0 and a temperature of 0.
+    if (total == 0 && !spec.species.empty()) {
+      const SpeciesSpec& first = spec.species.front();
+      const bool by_density = first.density.has_value();
+      fail(species_key(0, by_density ? "density" : "count"), by_density ? show(*first.density) : "0",
+           spec.species.size() == 1 && spec.molecules.empty()
+               ? std::string("the system is empty (no particles in the box); give a count >= 1 or a density")
+               : std::string("the system is empty: every species has count 0 (from its count or density) and no "
+                             "[[molecule]] adds beads; give some species a count >= 1 or a density"));
+    }
   }
   // Minimum image needs every box length to be at least twice the longest interaction range (pair
   // cutoff, or the reach of bonds).

@@ -129,9 +129,11 @@ TEST(ModelRecipes, ARegisteredAnalysisMeasuresMaxwellBoltzmannAndRestarts) {
   const std::string thermo = test::read_file(dir / "whole" / "thermo.csv");
   EXPECT_NE(thermo.substr(0, thermo.find('\n')).find("v4_ratio"), std::string::npos) << thermo;
   // Interrupted at step 150 and restarted: its running mean came through the checkpoint.
-  RunOptions first{dir / "split", 150, {}, false, false};
-  Simulation b(parse_config(cfg, "recipe.toml"), first);
-  b.run();
+  {
+    RunOptions first{dir / "split", 150, {}, false, false};
+    Simulation b(parse_config(cfg, "recipe.toml"), first);
+    b.run();
+  }  // a run owns its output folder until it ends
   RunOptions second{dir / "split", {}, dir / "split" / "checkpoint.mdpd", false, false};
   Simulation c(parse_config(cfg, "recipe.toml"), second);
   EXPECT_EQ(summary_line(c.run()), full);
