@@ -230,6 +230,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     observers_->load(r, options_.restart.string());
     pending_observer_state_.clear();
   }
+  // The initial forces must be representable too (collective; a restart's were checked when written).
+  if (!restarted) check_initial_overflow();
   if (!restarted) observers_->observe(context());
   // The periodic checkpoint, after the observers so that it holds their averages up to this step.
   if (!options_.out_dir.empty() && spec_.checkpoint_every > 0)
@@ -468,8 +470,16 @@ void Simulation::check_health() const {
         bad = i;
       }
   }
+  // A pair contribution out of the fixed-point range (ForceCompute: free while every value is in
+  // range) comes first: it is the cause when both trip. One reduction finds either: keys below 2^32
+  // are the first id of such a pair, keys from 2^32 on a fast or non-finite particle.
+  const std::optional<FixedPointOverflow> overflow = forces_->take_overflow();
+  constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max(), kParticle = std::uint64_t{1} << 32;
+  std::uint64_t key = overflow ? overflow->id_a : (id == kNone ? kNone : kParticle + id);
   const Comm& comm = halo_.comm();
-  if (comm.distributed()) id = comm.min(id);
+  if (comm.distributed()) key = comm.min(key);
+  if (key < kParticle) report_overflow(overflow, key);
+  id = key == kNone ? kNone : key - kParticle;
   if (id == std::numeric_limits<std::uint64_t>::max()) return;
   // The owner contributes the particle's state; the others add zeros.
   double state[4] = {0, 0, 0, 0};
@@ -490,6 +500,53 @@ void Simulation::check_health() const {
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
                                 "(run.max_velocity = {}){}; reduce integrator.dt or check the forces",
                                 step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity, density));
+}
+
+void Simulation::report_overflow(const std::optional<FixedPointOverflow>& mine, std::uint64_t first_id) const {
+  // Collective, on every rank after the same reduction. The lowest rank holding a pair with that first
+  // id describes it; the others add zeros.
+  const Comm& comm = halo_.comm();
+  constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t partner = mine && mine->id_a == first_id ? mine->id_b : kNone;
+  if (comm.distributed()) partner = comm.min(partner);
+  const bool holder = mine && mine->id_a == first_id && mine->id_b == partner;
+  std::uint64_t rank = holder ? static_cast<std::uint64_t>(comm.rank()) : kNone;
+  if (comm.distributed()) rank = comm.min(rank);
+  double info[4] = {0, 0, 0, 0};  // kind, other id, value, limit
+  if (holder && rank == static_cast<std::uint64_t>(comm.rank()))
+    info[0] = static_cast<double>(mine->what), info[1] = mine->id_b, info[2] = mine->value, info[3] = mine->limit;
+  if (comm.distributed()) comm.sum(std::span<double>(info, 4));
+  const auto what = static_cast<FixedPointOverflow::What>(static_cast<int>(info[0]));
+  const auto other = static_cast<std::uint32_t>(info[1]);
+  const double value = info[2], limit = info[3];
+  const auto id = static_cast<std::uint32_t>(first_id);
+  if (std::isnan(value))
+    throw BlowUpError(step_, id,
+                      fmt::format("simulation blew up at step {}: the pair force between particle ids {} and {} is not a "
+                                  "number; reduce integrator.dt or check the forces",
+                                  step_, id, other));
+  const std::string advice =
+      "forces this large are far from DPD scales: express the system in reduced units where pair.a, the bond "
+      "constants and the masses are of order 1 to 100 (a mass of 1e6 with a = 1e8 is the same physics as mass 1 "
+      "with a = 100), or raise integrator.dt if it is the random force sigma / sqrt(dt) that is large";
+  if (what == FixedPointOverflow::What::PairVirial && std::isinf(value))
+    throw BlowUpError(step_, id,
+                      fmt::format("fixed-point overflow at step {}: the virial (pressure) or energy totals of the pairs "
+                                  "left the 64-bit range of the fixed-point sums, so the pressure and energy would be "
+                                  "wrong; {}",
+                                  step_, advice));
+  if (what == FixedPointOverflow::What::PairVirial)
+    throw BlowUpError(step_, id,
+                      fmt::format("fixed-point overflow at step {}: the virial (pressure) sums of the pair of particle "
+                                  "ids {} and {} left the range of the fixed-point sums (|r F| up to {:.3g} per pair, "
+                                  "totals within 64 bits), so the pressure and energy would be wrong; {}",
+                                  step_, id, other, limit, advice));
+  throw BlowUpError(step_, id,
+                    fmt::format("fixed-point overflow at step {}: the {} of the pair of particle ids {} and {} is {:.4g}, "
+                                "beyond the {:.4g} per pair that the fixed-point sums represent (engine/fixed_point.hpp), "
+                                "so the forces would be clamped or wrap; {}",
+                                step_, what == FixedPointOverflow::What::Density ? "density weight" : "force component", id,
+                                other, value, limit, advice));
 }
 
 void Simulation::report_lost_particle() const {
@@ -514,6 +571,13 @@ void Simulation::report_lost_particle() const {
                     fmt::format("particle lost or duplicated at step {}: {} particles on {} ranks, {} expected (first "
                                 "affected id {}); this is a bug in the domain decomposition, please report it",
                                 step_, count, comm.size(), n_total_, culprit));
+}
+
+void Simulation::check_initial_overflow() const {
+  const std::optional<FixedPointOverflow> overflow = forces_->take_overflow();
+  std::uint64_t key = overflow ? overflow->id_a : std::numeric_limits<std::uint64_t>::max();
+  if (halo_.comm().distributed()) key = halo_.comm().min(key);
+  if (key != std::numeric_limits<std::uint64_t>::max()) report_overflow(overflow, key);
 }
 
 const std::vector<std::string>& Simulation::warnings() const {

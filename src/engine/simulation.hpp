@@ -127,6 +127,10 @@ class Simulation {
   void run_stages(StagePoint at);
   void check_health() const;
   [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
+  // Collective: throws the BlowUpError of a pair out of the fixed-point range whose first id (over all
+  // ranks) is `first_id`; `mine` is this rank's, if any.
+  [[noreturn]] void report_overflow(const std::optional<FixedPointOverflow>& mine, std::uint64_t first_id) const;
+  void check_initial_overflow() const;  // collective: the forces of the initial state
   void load_checkpoint(const std::filesystem::path& file);
   // Refuses a config whose box, periodicity or species differ from the checkpoint's (naming the key).
   void check_restart_config(const StateHeader& h, const std::filesystem::path& file) const;
