@@ -61,7 +61,9 @@ class Simulation {
   // The runaway guard (run.max_temperature_ratio): a message when the mean temperature over the second
   // half of this run's thermo rows exceeds that multiple of kT, nothing otherwise or when it is off.
   // The same on every rank.
+  // Judged only for runs of at least kRunawayMinTime time units (this process's steps x dt).
   std::optional<std::string> runaway_temperature() const;
+  static constexpr double kRunawayMinTime = 2.0;
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),
@@ -149,6 +151,7 @@ class Simulation {
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
   std::uint64_t final_step_ = 0;
+  std::uint64_t start_step_ = 0;  // where this process's run began (0, or the checkpoint's step)
   std::uint64_t n_total_ = 0;
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint

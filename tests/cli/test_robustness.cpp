@@ -264,6 +264,9 @@ TEST(Robustness, RunawayTemperatureExitsWithCodeThreeUnlessAllowed) {
   EXPECT_EQ(allowed.code, 0) << allowed.err;
   write_text(dir / "wider.toml", hot + "max_temperature_ratio = 20.0\n");
   EXPECT_EQ(run_mesodpd(dir, "run wider.toml --out wider").code, 0);
+  // A run shorter than 2 time units (here 1.5) is not judged: it may still carry a random start's heat.
+  const CliResult short_run = run_mesodpd(dir, "run hot.toml --out short --steps 10");
+  EXPECT_EQ(short_run.code, 0) << short_run.err;
 }
 
 // Forces beyond what the fixed-point sums hold (a = 1e11 with heavy particles, so no velocity guard
