@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -85,27 +87,51 @@ constexpr bool kFaultFreeMaskedLoad = false;
 // clamped value (native on AVX-512; emulated exactly elsewhere, where a scalar loop would stall on one
 // conversion per value). Reads and writes up to the next multiple of the lane count, which never passes
 // PairBatch::kCapacity (a multiple of every target's lane count).
-HWY_INLINE void to_fixed_array(const double* HWY_RESTRICT v, std::int64_t* HWY_RESTRICT q, std::size_t m,
-                               double scale) {
+//
+// Returns whether some vector held a value at or past `limit` (<= 2^51) in magnitude, or a NaN: the
+// fast path's own test, so the check costs nothing while every value is in range. Lanes past m may
+// hold stale values and raise it too; the caller looks at [0, m) to find the entry (note_overflow_in).
+HWY_INLINE bool to_fixed_array(const double* HWY_RESTRICT v, std::int64_t* HWY_RESTRICT q, std::size_t m,
+                               double scale, double limit) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   const auto vs = hn::Set(d, scale), hi = hn::Set(d, kFixedLimit), lo = hn::Set(d, -kFixedLimit);
   // Below 2^51 in magnitude (every force short of a blow-up) the truncated value t is an integer that
   // t + 1.5 * 2^52 holds exactly in its low mantissa bits: four cheap instructions instead of the full
   // conversion, which the other values (large, infinite, NaN) still take.
-  const auto small = hn::Set(d, 2251799813685248.0);  // 2^51
+  const auto small = hn::Set(d, limit);               // at most 2^51
   const auto magic = hn::Set(d, 6755399441055744.0);  // 1.5 * 2^52
   const auto magic_bits = hn::BitCast(di, magic);
+  bool out_of_range = false;
   for (std::size_t k = 0; k < m; k += hn::Lanes(d)) {
     auto x = hn::Mul(hn::LoadU(d, v + k), vs);
     if (hn::AllTrue(d, hn::Lt(hn::Abs(x), small))) {
       hn::StoreU(hn::Sub(hn::BitCast(di, hn::Add(hn::Trunc(x), magic)), magic_bits), di, q + k);
       continue;
     }
+    out_of_range = true;
     x = hn::IfThenElse(hn::Gt(x, hi), hi, x);
     x = hn::IfThenElse(hn::Lt(x, lo), lo, x);
     x = hn::IfThenElse(hn::Eq(x, x), x, hi);  // NaN becomes the largest value, as in to_fixed()
     hn::StoreU(hn::ConvertTo(di, x), di, q + k);
+  }
+  return out_of_range;
+}
+
+// Whether one value's contribution (value x scale) lies within the limit of the per-pair sums.
+inline bool in_fixed_range(double value, double scale, double limit) { return std::fabs(value * scale) < limit; }
+
+// After to_fixed_array reported a value out of range: every entry of [0, m) that is, into the batch's
+// report (which keeps the smallest ids; `id` are the global ids of the stored particles).
+inline void note_overflow_in(PairBatch& b, std::size_t m, double scale, double limit, const std::uint32_t* id,
+                             const double* fx, const double* fy, const double* fz, FixedPointOverflow::What what) {
+  for (std::size_t k = 0; k < m; ++k) {
+    const double c[3] = {fx[k], fy != nullptr ? fy[k] : 0.0, fz != nullptr ? fz[k] : 0.0};
+    for (const double v : c)
+      if (!in_fixed_range(v, scale, limit)) {
+        b.note_overflow(id[b.i[k]], id[b.j[k]], v, what);
+        break;
+      }
   }
 }
 static_assert(PairBatch::kCapacity % 16 == 0, "to_fixed_array rounds batch lengths up to whole vectors");
@@ -237,6 +263,8 @@ struct ForcePass {
   PairReal inv_sqrt_dt = 1;
   const std::int32_t* species = nullptr;
   const double* rho = nullptr;
+  double fixed_limit = kPairFixedLimit;  // PairJob::fixed_limit
+  const std::uint32_t* ids = nullptr;    // global ids of the stored particles, for overflow reports
 
   void evaluate(PairBatch& b, std::size_t m, std::int64_t* local) const {
     // Pair k with the parameters pp of its species pair.
@@ -263,14 +291,30 @@ struct ForcePass {
         b.qx[k] = q.x;
         b.qy[k] = q.y;
         b.qz[k] = q.z;
-        add_pair_sums(local, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
+        for (const double c : {fv.x, fv.y, fv.z})
+          if (!in_fixed_range(c, kForceScale, fixed_limit))
+            b.note_overflow(ids[b.i[k]], ids[b.j[k]], c, FixedPointOverflow::What::PairForce);
+        // The pair's terms, then their sums with a check (thermo steps only): a term at the clamp or a
+        // total past the int64 range would be a wrong pressure or energy without a word.
+        std::int64_t terms[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        add_pair_sums(terms, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
+        bool bad = false;
+        for (int c = 0; c < 9; ++c) {
+          bad |= terms[c] >= kPairSumLimit || terms[c] <= -kPairSumLimit;
+          bad |= __builtin_add_overflow(local[c], terms[c], &local[c]);
+        }
+        if (bad)
+          b.note_overflow(ids[b.i[k]], ids[b.j[k]], static_cast<double>(f.fc) * static_cast<double>(b.r[k]),
+                          FixedPointOverflow::What::PairVirial);
       }
     };
     for_each_pair_params(b, m, params, ns, species, pair);
     if constexpr (!kSums) {
-      to_fixed_array(b.fx, b.qx, m, kForceScale);
-      to_fixed_array(b.fy, b.qy, m, kForceScale);
-      to_fixed_array(b.fz, b.qz, m, kForceScale);
+      bool out = to_fixed_array(b.fx, b.qx, m, kForceScale, fixed_limit);
+      out |= to_fixed_array(b.fy, b.qy, m, kForceScale, fixed_limit);
+      out |= to_fixed_array(b.fz, b.qz, m, kForceScale, fixed_limit);
+      if (out) [[unlikely]]
+        note_overflow_in(b, m, kForceScale, fixed_limit, ids, b.fx, b.fy, b.fz, FixedPointOverflow::What::PairForce);
     }
   }
 };
@@ -290,10 +334,14 @@ struct DensityPass {
   int ns = 1;
   const std::int32_t* species = nullptr;
 
+  double fixed_limit = kPairFixedLimit;
+  const std::uint32_t* ids = nullptr;
+
   void evaluate(PairBatch& b, std::size_t m, std::int64_t*) const {
     for_each_pair_params(b, m, params.data(), ns, species,
                          [&](const Params& pp, std::size_t k) { b.fx[k] = kernel(pp, b.r[k]); });
-    to_fixed_array(b.fx, b.qx, m, kForceScale);
+    if (to_fixed_array(b.fx, b.qx, m, kForceScale, fixed_limit)) [[unlikely]]
+      note_overflow_in(b, m, kForceScale, fixed_limit, ids, b.fx, nullptr, nullptr, FixedPointOverflow::What::Density);
   }
 };
 
@@ -312,6 +360,30 @@ struct BatchGeometry {
   NoiseKind kind;
   std::uint64_t step;
 };
+
+// Moves the batch's out-of-range pair (PairBatch::overflow) into `found`, which keeps the pair with the
+// smallest ids so that the report depends neither on threads nor on batches; clears the batch's.
+inline void take_batch_overflow(PairBatch& b, double limit, std::optional<FixedPointOverflow>& found) {
+  if (!b.overflow) return;
+  FixedPointOverflow o = *b.overflow;
+  o.limit = o.what == FixedPointOverflow::What::PairVirial ? static_cast<double>(kPairSumLimit) * kVirialUnscale
+                                                           : limit * kForceUnscale;
+  if (!found || o.id_a < found->id_a || (o.id_a == found->id_a && o.id_b < found->id_b)) found = o;
+  b.overflow.reset();
+}
+
+// Adds a thread's nine sums to the rank's, reporting a total that leaves the int64 range.
+inline void add_sums_checked(std::int64_t* totals, const std::int64_t* local, std::optional<FixedPointOverflow>& found) {
+  bool bad = false;
+  for (int q = 0; q < 9; ++q) bad |= __builtin_add_overflow(totals[q], local[q], &totals[q]);
+  if (bad && !found) {
+    FixedPointOverflow o;
+    o.what = FixedPointOverflow::What::PairVirial;
+    o.value = std::numeric_limits<double>::infinity();
+    o.limit = 9.2e18 * kVirialUnscale;
+    found = o;
+  }
+}
 
 // Passes 1-3 over batch entries [0, m): exact geometry, the pair noise, the law or kernel with the
 // fixed-point conversion (into b.qx, .qy, .qz; sums into `local`). Shared by the pair loop and by the
@@ -457,6 +529,8 @@ class BatchAccumulator {
     std::int64_t* buf = buf_;
     const std::size_t m = b.m;
     evaluate_batch(b, m, pass_, geo_, local_);
+    if (b.overflow) [[unlikely]]
+      take_batch_overflow(b, pass_.fixed_limit, overflow_);
     // Pass 4: scatter. The pairs of one particle i are consecutive in the batch, so i's share is
     // summed in registers and added once per run.
     if constexpr (C == 3) {
@@ -487,11 +561,14 @@ class BatchAccumulator {
   }
 
   // The last batch, then this thread's sums into the rank's (integers: the order does not matter).
-  void finish(std::int64_t* totals) {
+  void finish(std::int64_t* totals, std::optional<FixedPointOverflow>& overflow) {
     flush();
-    if constexpr (kSums) {
 #pragma omp critical
-      for (int q = 0; q < 9; ++q) totals[q] += local_[q];
+    {
+      if constexpr (kSums) add_sums_checked(totals, local_, overflow_);
+      if (overflow_ && (!overflow || overflow_->id_a < overflow->id_a ||
+                        (overflow_->id_a == overflow->id_a && overflow_->id_b < overflow->id_b)))
+        overflow = overflow_;
     }
   }
 
@@ -501,6 +578,7 @@ class BatchAccumulator {
   const Pass& pass_;
   const BatchGeometry& geo_;
   std::int64_t local_[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // this thread's sums (PairJob::totals)
+  std::optional<FixedPointOverflow> overflow_;            // this thread's first pair out of range
 };
 
 // Where the instruction set has no compress instruction and a vector holds 4 candidates (AVX2, double
@@ -810,7 +888,7 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
     } else {
       traverse_verlet(list, n, reinterpret_cast<const std::uint32_t*>(p.body.data()), any_frozen, acc);
     }
-    acc.finish(job.totals);
+    acc.finish(job.totals, job.overflow);
 #pragma omp barrier
     reduce_thread_buffers<C>(ws, nthreads, n, ntot, ghosts, p, job.out);
   }
@@ -846,6 +924,7 @@ void run_listed(PairJob& job, const Pass& pass) {
       b.iid[k] = p.id[i];
     }
     evaluate_batch(b, m, pass, geo, local);
+    take_batch_overflow(b, pass.fixed_limit, job.overflow);
     for (std::size_t k = 0; k < m; ++k) {
       const std::size_t i = b.i[k], j = b.j[k];
       f[3 * i] -= b.qx[k];
@@ -892,6 +971,8 @@ void run_pair_job(PairJob& job) {
               pass.inv_sqrt_dt = static_cast<PairReal>(1.0 / std::sqrt(job.dt));
               pass.species = job.p->species.data();
               pass.rho = job.rho;
+              pass.fixed_limit = job.fixed_limit;
+              pass.ids = job.p->id.data();
               if (job.pairs != nullptr)
                 run_listed<decltype(pass), kSums>(job, pass);
               else
@@ -913,6 +994,8 @@ void run_pair_job(PairJob& job) {
     pass.params = converted<DensityParamsT<PairReal>>(ds.table);
     pass.ns = distinct_species(pass.params, ds.table.n_species);
     pass.species = job.p->species.data();
+    pass.fixed_limit = job.fixed_limit;
+    pass.ids = job.p->id.data();
     run_pass(job, pass, ds.table.max_cutoff);
   };
   switch (ds.kernel) {
@@ -972,6 +1055,27 @@ std::unique_ptr<PairBackend> make_pair_backend(PairLawTables laws, NoiseSettings
 ForceCompute::ForceCompute(PairLawTables laws, NoiseSettings noise)
     : laws_(std::move(laws)), noise_(noise), ws_(std::make_unique<PairWorkspace>()) {}
 ForceCompute::~ForceCompute() = default;
+namespace {
+
+// The per-pair limit of a loop over `list`: 2^51 (kPairFixedLimit), lowered where a particle may have
+// more than 4096 partners so that the sum of its contributions cannot leave int64. Cells are at least
+// a cutoff (plus skin) wide, so 27 times the fullest cell of the last build bounds any particle's
+// candidates; counting costs one pass over the cells, nothing next to the pairs.
+double pair_fixed_limit(const NeighborList& list, const ParticleData& p) {
+  const std::vector<std::uint32_t>& cs = list.cell_start();
+  std::uint64_t partners = p.size();
+  if (cs.size() >= 2) {
+    std::uint32_t fullest = 0;
+    for (std::size_t c = 0; c + 1 < cs.size(); ++c)
+      if (cs[c + 1] > cs[c]) fullest = std::max(fullest, cs[c + 1] - cs[c]);
+    partners = std::min<std::uint64_t>(partners, 27 * static_cast<std::uint64_t>(fullest));
+  }
+  if (partners <= 4096) return kPairFixedLimit;
+  return std::floor(9223372036854775808.0 / static_cast<double>(partners));  // 2^63 / partners
+}
+
+}  // namespace
+
 ForceCompute::ForceCompute(ForceCompute&&) noexcept = default;
 ForceCompute& ForceCompute::operator=(ForceCompute&&) noexcept = default;
 
@@ -991,7 +1095,9 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
   job.noise = noise_;
   job.with_sums = with_sums;
   job.ws = ws_.get();
+  job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
+  note(job.overflow);
   const std::size_t n = p.n_local;
   if (p.n_ghost > 0) {
     std::int64_t* fixed = ws_->fixed.data();
@@ -1031,9 +1137,26 @@ void ForceCompute::subtract_pairs(ParticleData& p, const Box& box, std::span<con
   job.pairs = pairs.data();
   job.n_pairs = pairs.size() / 2;
   job.subtract_into = fixed;
+  job.fixed_limit = fixed_limit_;
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
-  if (with_sums)
-    for (int q = 0; q < 9; ++q) totals[q] += job.totals[q];
+  note(job.overflow);
+  if (with_sums) {
+    bool bad = false;
+    for (int q = 0; q < 9; ++q) bad |= __builtin_add_overflow(totals[q], job.totals[q], &totals[q]);
+    if (bad) {
+      FixedPointOverflow o;
+      o.what = FixedPointOverflow::What::PairVirial;
+      o.value = std::numeric_limits<double>::infinity();
+      o.limit = 9.2e18 * kVirialUnscale;
+      note(o);
+    }
+  }
+}
+
+void ForceCompute::note(const std::optional<FixedPointOverflow>& found) {
+  if (found && (!overflow_ || found->id_a < overflow_->id_a ||
+                (found->id_a == overflow_->id_a && found->id_b < overflow_->id_b)))
+    overflow_ = found;
 }
 
 void ForceCompute::compute_density(ParticleData& p, const Box& box, const NeighborList& list,
@@ -1049,7 +1172,9 @@ void ForceCompute::compute_density(ParticleData& p, const Box& box, const Neighb
   job.density = &density;
   job.out = rho.data();
   job.ws = ws_.get();
+  job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
+  note(job.overflow);
   if (p.n_ghost > 0) {
     std::int64_t* fixed = ws_->fixed.data();
     if (halo != nullptr) halo->reverse_sums(fixed, 1, p);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "core/pair_sums.hpp"
 #include "core/particle_data.hpp"
 #include "core/philox.hpp"
+#include "engine/fixed_point.hpp"
 #include "engine/pair_backend.hpp"
 #include "engine/pair_laws.hpp"
 #include "neighbor/neighbor_list.hpp"
@@ -43,6 +45,7 @@ class ForceCompute final : public PairBackend {
                       const double* density) override;
 
   const PairLawTables& laws() const override { return laws_; }
+  std::optional<FixedPointOverflow> take_overflow() override { return std::exchange(overflow_, std::nullopt); }
 
   // The instruction set the pair loop runs with on this CPU (e.g. "AVX3", "AVX2", "SSE4"), chosen at
   // run time. The environment variable MESODPD_SIMD = avx512 | avx2 | sse4 | scalar caps it (for
@@ -56,6 +59,9 @@ class ForceCompute final : public PairBackend {
   PairLawTables laws_;
   NoiseSettings noise_;
   std::unique_ptr<PairWorkspace> ws_;
+  std::optional<FixedPointOverflow> overflow_;  // since the last take_overflow()
+  double fixed_limit_ = kPairFixedLimit;        // the per-pair limit of the last loop (listed pairs reuse it)
+  void note(const std::optional<FixedPointOverflow>& found);
 };
 
 }  // namespace mesodpd

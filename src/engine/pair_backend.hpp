@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 
 #include "core/box.hpp"
@@ -20,6 +21,16 @@ namespace mesodpd {
 struct NoiseSettings {
   std::uint64_t seed = 1;
   NoiseKind kind = NoiseKind::Uniform;
+};
+
+// A pair whose contribution left the range the fixed-point sums hold (engine/fixed_point.hpp): the
+// run cannot go on with correct sums. `value` is the offending quantity in reduced units (NaN stays NaN).
+struct FixedPointOverflow {
+  enum class What { PairForce, PairVirial, Density };
+  What what = What::PairForce;
+  std::uint32_t id_a = 0, id_b = 0;  // the pair's global ids (both 0 when only a total overflowed)
+  double value = 0;
+  double limit = 0;  // the largest magnitude the sums take for it
 };
 
 // Every implementation gives the same bits: forces and sums are accumulated in the fixed point of
@@ -53,6 +64,11 @@ class PairBackend {
   virtual void subtract_pairs(ParticleData& p, const Box& box, std::span<const std::uint32_t> pairs,
                               std::uint64_t step, double dt, bool with_sums, std::int64_t* fixed,
                               std::int64_t* totals, const double* density) = 0;
+
+  // The first pair (smallest id) whose contribution to the sums of the calls since the last
+  // take_overflow() left the fixed-point range, then forgets it; nothing if none did. Checked by the
+  // engine after every force evaluation (collectively, in its health check).
+  virtual std::optional<FixedPointOverflow> take_overflow() = 0;
 
   // The law and its tables the backend runs (analyses evaluate the same ones with the reference loop).
   virtual const PairLawTables& laws() const = 0;

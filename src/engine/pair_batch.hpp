@@ -3,10 +3,13 @@
 // compiled for the CPU's instruction set.
 #pragma once
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "engine/fixed_point.hpp"
 #include "engine/force_compute.hpp"
 
 namespace mesodpd {
@@ -45,6 +48,14 @@ struct PairBatch {
   std::vector<PairReal> cand_x, cand_y, cand_z;
   std::vector<std::uint32_t> cand_j;
   std::vector<std::uint32_t> cand_body;  // body of each candidate, gathered only when frozen particles exist
+  // The pair of the batch (smallest ids) whose contribution left the fixed-point range, if any; set by
+  // the passes, taken by the accumulation.
+  std::optional<FixedPointOverflow> overflow;
+  void note_overflow(std::uint32_t id_i, std::uint32_t id_j, double value, FixedPointOverflow::What what) {
+    const std::uint32_t a = std::min(id_i, id_j), c = std::max(id_i, id_j);
+    if (overflow && (overflow->id_a < a || (overflow->id_a == a && overflow->id_b <= c))) return;
+    overflow = FixedPointOverflow{what, a, c, value, 0.0};
+  }
 };
 
 struct PairWorkspace {
@@ -76,6 +87,10 @@ struct PairJob {
   const std::uint32_t* pairs = nullptr;
   std::size_t n_pairs = 0;
   std::int64_t* subtract_into = nullptr;
+  // The largest |value x scale| of one pair's contribution taken (engine/fixed_point.hpp), and the
+  // first pair found past it (smallest first id over the threads), if any.
+  double fixed_limit = kPairFixedLimit;
+  std::optional<FixedPointOverflow> overflow;
 };
 
 }  // namespace mesodpd

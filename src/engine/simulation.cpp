@@ -135,6 +135,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (comm.distributed()) malloc_trim(0);
 #endif
   }
+  start_step_ = step_;
   // Every model joins through its installer, in the order of engine/installers.cpp.
   Installation setup{*this,
                      spec_,
@@ -162,6 +163,8 @@ void Simulation::initial_forces() {
   if (options_.restart.empty()) {
     rebuild_neighbors(nlist_, p_, box_, halo_);
     compute_forces(true);
+    // The initial forces must be representable too (collective; a restart's were checked when written).
+    check_initial_overflow();
   } else if (spec_.bond_subcycles > 1) {
     // The checkpoint holds the other forces; the bonded ones at the same positions are recomputed
     // (integer sums: the same bits as the interrupted run had). They need the ghosts, whose build is
@@ -403,8 +406,16 @@ void Simulation::check_health() const {
         bad = i;
       }
   }
+  // A pair contribution out of the fixed-point range (ForceCompute: free while every value is in
+  // range) comes first: it is the cause when both trip. One reduction finds either: keys below 2^32
+  // are the first id of such a pair, keys from 2^32 on a fast or non-finite particle.
+  const std::optional<FixedPointOverflow> overflow = forces_->take_overflow();
+  constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max(), kParticle = std::uint64_t{1} << 32;
+  std::uint64_t key = overflow ? overflow->id_a : (id == kNone ? kNone : kParticle + id);
   const Comm& comm = halo_.comm();
-  if (comm.distributed()) id = comm.min(id);
+  if (comm.distributed()) key = comm.min(key);
+  if (key < kParticle) report_overflow(overflow, key);
+  id = key == kNone ? kNone : key - kParticle;
   if (id == std::numeric_limits<std::uint64_t>::max()) return;
   // The owner contributes the particle's state; the others add zeros.
   double state[4] = {0, 0, 0, 0};
@@ -425,6 +436,53 @@ void Simulation::check_health() const {
                     fmt::format("simulation blew up at step {}: particle id {} has position ({}, {}, {}) and speed {} "
                                 "(run.max_velocity = {}){}; reduce integrator.dt or check the forces",
                                 step_, id, state[0], state[1], state[2], state[3], spec_.max_velocity, density));
+}
+
+void Simulation::report_overflow(const std::optional<FixedPointOverflow>& mine, std::uint64_t first_id) const {
+  // Collective, on every rank after the same reduction. The lowest rank holding a pair with that first
+  // id describes it; the others add zeros.
+  const Comm& comm = halo_.comm();
+  constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t partner = mine && mine->id_a == first_id ? mine->id_b : kNone;
+  if (comm.distributed()) partner = comm.min(partner);
+  const bool holder = mine && mine->id_a == first_id && mine->id_b == partner;
+  std::uint64_t rank = holder ? static_cast<std::uint64_t>(comm.rank()) : kNone;
+  if (comm.distributed()) rank = comm.min(rank);
+  double info[4] = {0, 0, 0, 0};  // kind, other id, value, limit
+  if (holder && rank == static_cast<std::uint64_t>(comm.rank()))
+    info[0] = static_cast<double>(mine->what), info[1] = mine->id_b, info[2] = mine->value, info[3] = mine->limit;
+  if (comm.distributed()) comm.sum(std::span<double>(info, 4));
+  const auto what = static_cast<FixedPointOverflow::What>(static_cast<int>(info[0]));
+  const auto other = static_cast<std::uint32_t>(info[1]);
+  const double value = info[2], limit = info[3];
+  const auto id = static_cast<std::uint32_t>(first_id);
+  if (std::isnan(value))
+    throw BlowUpError(step_, id,
+                      fmt::format("simulation blew up at step {}: the pair force between particle ids {} and {} is not a "
+                                  "number; reduce integrator.dt or check the forces",
+                                  step_, id, other));
+  const std::string advice =
+      "forces this large are far from DPD scales: express the system in reduced units where pair.a, the bond "
+      "constants and the masses are of order 1 to 100 (a mass of 1e6 with a = 1e8 is the same physics as mass 1 "
+      "with a = 100), or raise integrator.dt if it is the random force sigma / sqrt(dt) that is large";
+  if (what == FixedPointOverflow::What::PairVirial && std::isinf(value))
+    throw BlowUpError(step_, id,
+                      fmt::format("fixed-point overflow at step {}: the virial (pressure) or energy totals of the pairs "
+                                  "left the 64-bit range of the fixed-point sums, so the pressure and energy would be "
+                                  "wrong; {}",
+                                  step_, advice));
+  if (what == FixedPointOverflow::What::PairVirial)
+    throw BlowUpError(step_, id,
+                      fmt::format("fixed-point overflow at step {}: the virial (pressure) sums of the pair of particle "
+                                  "ids {} and {} left the range of the fixed-point sums (|r F| up to {:.3g} per pair, "
+                                  "totals within 64 bits), so the pressure and energy would be wrong; {}",
+                                  step_, id, other, limit, advice));
+  throw BlowUpError(step_, id,
+                    fmt::format("fixed-point overflow at step {}: the {} of the pair of particle ids {} and {} is {:.4g}, "
+                                "beyond the {:.4g} per pair that the fixed-point sums represent (engine/fixed_point.hpp), "
+                                "so the forces would be clamped or wrap; {}",
+                                step_, what == FixedPointOverflow::What::Density ? "density weight" : "force component", id,
+                                other, value, limit, advice));
 }
 
 void Simulation::report_lost_particle() const {
@@ -451,6 +509,13 @@ void Simulation::report_lost_particle() const {
                                 step_, count, comm.size(), n_total_, culprit));
 }
 
+void Simulation::check_initial_overflow() const {
+  const std::optional<FixedPointOverflow> overflow = forces_->take_overflow();
+  std::uint64_t key = overflow ? overflow->id_a : std::numeric_limits<std::uint64_t>::max();
+  if (halo_.comm().distributed()) key = halo_.comm().min(key);
+  if (key != std::numeric_limits<std::uint64_t>::max()) report_overflow(overflow, key);
+}
+
 const std::vector<std::string>& Simulation::warnings() const {
   static const std::vector<std::string> none;
   return observers_ ? observers_->warnings() : none;
@@ -459,6 +524,9 @@ const std::vector<std::string>& Simulation::warnings() const {
 std::optional<std::string> Simulation::runaway_temperature() const {
   const double ratio = spec_.max_temperature_ratio;
   if (!(ratio > 0) || !observers_) return std::nullopt;
+  // A short run may still carry the heat of a random start (an mDPD slab is at 5.8 kT after 20 steps of
+  // dt = 0.01, 1.7 kT after 200): those get the warning only.
+  if (static_cast<double>(final_step_ - start_step_) * spec_.dt < kRunawayMinTime) return std::nullopt;
   const std::optional<double> t = observers_->late_temperature();
   if (!t || (!(*t > ratio * spec_.kT) && std::isfinite(*t))) return std::nullopt;  // NaN and infinity are runaways
   return fmt::format("the run ran away: its mean temperature over the second half of the run, {:.4g}, is {:.3g} "

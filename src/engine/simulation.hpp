@@ -63,7 +63,9 @@ class Simulation {
   // The runaway guard (run.max_temperature_ratio): a message when the mean temperature over the second
   // half of this run's thermo rows exceeds that multiple of kT, nothing otherwise or when it is off.
   // The same on every rank.
+  // Judged only for runs of at least kRunawayMinTime time units (this process's steps x dt).
   std::optional<std::string> runaway_temperature() const;
+  static constexpr double kRunawayMinTime = 2.0;
 
   // One time step, in this order: integrate (first part), wrap, [AfterFirstHalf], neighbours and
   // ghost exchange, [AfterNeighbors], pair forces, [Forces], integrate (second part),
@@ -138,6 +140,10 @@ class Simulation {
   void run_stages(StagePoint at);
   void check_health() const;
   [[noreturn]] void report_lost_particle() const;  // collective: names the step and a lost/duplicated id
+  // Collective: throws the BlowUpError of a pair out of the fixed-point range whose first id (over all
+  // ranks) is `first_id`; `mine` is this rank's, if any.
+  [[noreturn]] void report_overflow(const std::optional<FixedPointOverflow>& mine, std::uint64_t first_id) const;
+  void check_initial_overflow() const;  // collective: the forces of the initial state
   void load_checkpoint(const std::filesystem::path& file);
   // Refuses a config whose box, periodicity or species differ from the checkpoint's (naming the key).
   void check_restart_config(const StateHeader& h, const std::filesystem::path& file) const;
@@ -156,6 +162,7 @@ class Simulation {
   std::vector<double> mass_, inv_mass_;
   std::uint64_t step_ = 0;
   std::uint64_t final_step_ = 0;
+  std::uint64_t start_step_ = 0;  // where this process's run began (0, or the checkpoint's step)
   std::uint64_t n_total_ = 0;
   std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint

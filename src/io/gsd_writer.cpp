@@ -12,6 +12,7 @@
 // Blocks that outgrow their allocation are rewritten, larger, at the end of the file and the header
 // is updated to point at them, as libgsd does.
 #include "io/gsd_writer.hpp"
+#include "io/output_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -133,6 +134,8 @@ void GsdWriter::fail(const std::string& message) const {
 }
 
 void GsdWriter::write_at(const void* data, std::size_t size, std::uint64_t offset, const char* what) {
+  if (const int err = injected_output_fault(path_); err != 0)
+    fail(std::string("error writing ") + what + ": " + std::strerror(err));
   const auto* p = static_cast<const char*>(data);
   while (size > 0) {
     const ssize_t done = ::pwrite(fd_, p, size, static_cast<off_t>(offset));

@@ -264,4 +264,39 @@ TEST(Robustness, RunawayTemperatureExitsWithCodeThreeUnlessAllowed) {
   EXPECT_EQ(allowed.code, 0) << allowed.err;
   write_text(dir / "wider.toml", hot + "max_temperature_ratio = 20.0\n");
   EXPECT_EQ(run_mesodpd(dir, "run wider.toml --out wider").code, 0);
+  // A run shorter than 2 time units (here 1.5) is not judged: it may still carry a random start's heat.
+  const CliResult short_run = run_mesodpd(dir, "run hot.toml --out short --steps 10");
+  EXPECT_EQ(short_run.code, 0) << short_run.err;
+}
+
+// Forces beyond what the fixed-point sums hold (a = 1e11 with heavy particles, so no velocity guard
+// trips; or dt = 1e-300, whose random force is ~1e150) stop the run at step 0 with exit 3, naming the
+// pair and the quantity, the same on one and two threads; the standard fluid is untouched.
+TEST(Robustness, FixedPointOverflowStopsTheRunNamingThePair) {
+  const fs::path dir = work_dir();
+  auto config = [](const std::string& a, const std::string& mass, const std::string& dt) {
+    return "[system]\nbox = [6.0, 6.0, 6.0]\nseed = 7\n\n[[species]]\nname = \"A\"\ndensity = 3.0\nmass = " + mass +
+           "\n\n[pair]\na = " + a + "\n\n[integrator]\ndt = " + dt +
+           "\n\n[run]\nsteps = 20\nmax_velocity = 1e300\n\n[output]\nprogress = false\nthermo_every = 10\n";
+  };
+  write_text(dir / "strong.toml", config("1e11", "1e9", "0.04"));
+  write_text(dir / "tiny_dt.toml", config("25.0", "1.0", "1e-300"));
+  write_text(dir / "normal.toml", config("25.0", "1.0", "0.04"));
+  for (const std::string name : {"strong", "tiny_dt"}) {
+    SCOPED_TRACE(name);
+    std::string first_error;
+    for (const std::string threads : {"1", "2"}) {
+      const CliResult r = run_mesodpd(dir, "run " + name + ".toml --out " + name + threads + " --threads " + threads);
+      EXPECT_EQ(r.code, 3) << r.err;
+      for (const std::string word : {"fixed-point overflow at step 0", "force component of the pair of particle ids",
+                                     "per pair that the fixed-point sums represent"})
+        EXPECT_TRUE(contains(r.err, word)) << "'" << word << "' not in: " << r.err;
+      EXPECT_FALSE(contains(r.out, "thermo rows")) << r.out;
+      const std::string line = r.err.substr(r.err.find("error: "));
+      if (first_error.empty()) first_error = line;
+      EXPECT_EQ(line, first_error);
+    }
+  }
+  const CliResult ok = run_mesodpd(dir, "run normal.toml --out normal");
+  EXPECT_EQ(ok.code, 0) << ok.err;
 }

@@ -165,3 +165,26 @@ TEST(OutputLock, AnotherOpenFileDescriptionCannotTakeAHeldLock) {
   const std::string text = test::read_file(dir / kOutputLockName);
   EXPECT_EQ(text.rfind("pid " + std::to_string(::getpid()) + " on host ", 0), 0u) << text;
 }
+
+// The GSD writer's writes are checked through the same hook: a frame that cannot be written is an
+// error naming the file.
+TEST(OutputFile, InjectedFaultStopsAGsdTrajectoryNamingIt) {
+  const fs::path dir = fresh_dir("gsd");
+  FaultGuard guard;
+  SimulationSpec spec = test::fluid_spec(5, 5, 5, 3.0);
+  spec.steps = 20;
+  spec.dump.enabled = true;
+  spec.dump.format = DumpFormat::Gsd;
+  spec.dump.every = 10;
+  RunOptions opt;
+  opt.out_dir = dir;
+  Simulation sim(spec, opt);
+  set_output_fault_hook([](const fs::path& p) { return p.extension() == ".gsd" ? EIO : 0; });
+  try {
+    sim.run();
+    FAIL() << "the run ended although its trajectory could not be written";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("trajectory.gsd"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sim.current_step(), 10u);
+}
