@@ -862,7 +862,7 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   PairWorkspace& ws = *job.ws;
   const std::size_t n = p.n_local;
   const std::size_t ntot = p.size();  // local particles, then ghosts
-  const bool ghosts = p.n_ghost > 0;
+  const bool ghosts = p.n_ghost > 0 || job.exchange;
   const int nthreads = prepare_workspace(ws, C, ntot, ghosts);
   // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
   const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
@@ -1096,10 +1096,11 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
   job.with_sums = with_sums;
   job.ws = ws_.get();
   job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
+  job.exchange = halo != nullptr && halo->active();
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
   note(job.overflow);
   const std::size_t n = p.n_local;
-  if (p.n_ghost > 0) {
+  if (p.n_ghost > 0 || job.exchange) {
     std::int64_t* fixed = ws_->fixed.data();
     if (halo != nullptr) halo->reverse_forces(fixed, p);
 #pragma omp parallel for schedule(static)
@@ -1173,9 +1174,10 @@ void ForceCompute::compute_density(ParticleData& p, const Box& box, const Neighb
   job.out = rho.data();
   job.ws = ws_.get();
   job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
+  job.exchange = halo != nullptr && halo->active();
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
   note(job.overflow);
-  if (p.n_ghost > 0) {
+  if (p.n_ghost > 0 || job.exchange) {
     std::int64_t* fixed = ws_->fixed.data();
     if (halo != nullptr) halo->reverse_sums(fixed, 1, p);
     const std::size_t n = p.n_local;

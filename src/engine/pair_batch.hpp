@@ -78,6 +78,9 @@ struct PairJob {
   double dt = 1;
   NoiseSettings noise;
   bool with_sums = false;
+  // The ghost exchange is active (a decomposed run): the sums take the ghost path on every rank, also
+  // on one that holds no ghosts, since returning ghost totals to their owners is collective.
+  bool exchange = false;
   PairWorkspace* ws = nullptr;
   // Integer sums of this rank: [0..5] virial tensor, [6] conservative virial trace, [7] energy, [8] pairs.
   std::int64_t totals[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
