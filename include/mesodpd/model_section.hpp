@@ -26,7 +26,8 @@ struct ModelSection {
 };
 
 // The section of a model whose values are a T declared by `table`; `cross_check` (optional) throws a
-// SpecError naming the key for what the ranges cannot say.
+// SpecError naming the key for what the ranges cannot say. The section keeps a reference to `table`,
+// so it must live as long as the program: a function-local static, as every *_keys() function has.
 template <class T>
 ModelSection model_section(const keys::KeyTable<T>& table,
                            std::type_identity_t<std::function<void(const T&, const SimulationSpec&)>> cross_check = {},

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "analysis/observers.hpp"
 #include "analysis/thermo.hpp"
@@ -146,7 +147,20 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
                      summaries_,
                      ObserverSettings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}},
                      std::move(pending_observer_state_)};
-  for (const Model& model : models()) model.install(setup);
+  bool observers_built = false;
+  for (const Model& model : models()) {
+    model.install(setup);
+    // Thermo columns and checkpoint sections reach the observers only from models installed before
+    // them; a later one would be dropped in silence.
+    if (observers_built && (!setup.observers.columns.empty() || !setup.observers.sections.empty()))
+      throw std::logic_error("model " + model.name +
+                             " adds thermo columns or checkpoint sections after the observers; register it before "
+                             "\"observers\" (engine/installer.hpp)");
+    if (model.name == "observers") {
+      observers_built = true;
+      setup.observers = ObserverSettings{};
+    }
+  }
   observers_ = components_.find<Observers>();
 }
 

@@ -23,10 +23,30 @@ Model rescale_model();
 namespace mesodpd {
 namespace {
 
-// The two models join once per test program, before any spec is read.
+struct LateSpec {
+  bool on = true;
+};
+const keys::KeyTable<LateSpec>& late_keys() {
+  static const keys::KeyTable<LateSpec> table = [] {
+    keys::KeyTable<LateSpec> t("test_late");
+    t.boolean("on", &LateSpec::on, "Adds a thermo column.");
+    return t;
+  }();
+  return table;
+}
+
+// The models join once per test program, before any spec is read. The third is misplaced on purpose:
+// after the observers, where its thermo column could not reach them.
 const bool kRegistered = [] {
   register_model(test_models::rescale_model());
   register_model(test_models::moments_model());
+  register_model({"test_late",
+                  [](Installation& in) {
+                    if (in.spec.model<LateSpec>("test_late"))
+                      in.observers.columns.push_back({"late", [](const StepContext&) { return 0.0; }});
+                  },
+                  [] { return model_section(late_keys()); }},
+                 "checkpoints");
   return true;
 }();
 
@@ -138,6 +158,19 @@ TEST(ModelRecipes, ARegisteredAnalysisMeasuresMaxwellBoltzmannAndRestarts) {
   Simulation c(parse_config(cfg, "recipe.toml"), second);
   EXPECT_EQ(summary_line(c.run()), full);
   std::filesystem::remove_all(dir);
+}
+
+TEST(ModelRecipes, AModelAfterTheObserversCannotAddColumnsInSilence) {
+  ASSERT_TRUE(kRegistered);
+  try {
+    Simulation sim(parse_config(fluid(5, 4.5, "[test_late]\n"), "recipe.toml"), RunOptions{});
+    FAIL() << "a column after the observers was accepted";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("test_late"), std::string::npos) << e.what();
+  }
+  // Left out, the model does nothing and the run starts.
+  Simulation sim(parse_config(fluid(5, 4.5, ""), "recipe.toml"), RunOptions{});
+  EXPECT_GT(sim.total_particles(), 0u);
 }
 
 }  // namespace
