@@ -15,9 +15,6 @@ namespace mesodpd {
 
 namespace {
 
-constexpr double kFixed = 4294967296.0;  // 2^32: force and momentum sums in integers (order-free)
-std::int64_t fixed(double v) { return static_cast<std::int64_t>(std::llround(v * kFixed)); }
-
 // Opens `path` for a new run (header written) unless a restart continues it.
 void start_csv(const std::filesystem::path& path, bool restarted, const std::string& header) {
   if (restarted && std::filesystem::exists(path)) return;
@@ -56,15 +53,15 @@ void WallDrag::run(StepContext& ctx) {
   for (std::size_t i = 0; i < p.n_local; ++i) {
     if (p.body[i] > 0) {
       const std::size_t b = static_cast<std::size_t>(p.body[i] - 1);
-      q[3 * b] += fixed(p.fx[i]);
-      q[3 * b + 1] += fixed(p.fy[i]);
-      q[3 * b + 2] += fixed(p.fz[i]);
+      q[3 * b] += wall_fixed(p.fx[i]);
+      q[3 * b + 1] += wall_fixed(p.fy[i]);
+      q[3 * b + 2] += wall_fixed(p.fz[i]);
     } else if (!frozen_[static_cast<std::size_t>(p.species[i])]) {
       const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
-      q[3 * nb] += fixed(m * p.vx[i]);
-      q[3 * nb + 1] += fixed(m * p.vy[i]);
-      q[3 * nb + 2] += fixed(m * p.vz[i]);
-      q[3 * nb + 3] += fixed(m);
+      q[3 * nb] += wall_fixed(m * p.vx[i]);
+      q[3 * nb + 1] += wall_fixed(m * p.vy[i]);
+      q[3 * nb + 2] += wall_fixed(m * p.vz[i]);
+      q[3 * nb + 3] += wall_fixed(m);
     }
   }
   ctx.comm.sum(std::span<std::int64_t>(q));
@@ -75,7 +72,7 @@ void WallDrag::run(StepContext& ctx) {
   std::vector<double> row(6 * nb);
   for (std::size_t b = 0; b < nb; ++b)
     for (std::size_t c = 0; c < 3; ++c) {
-      row[6 * b + c] = static_cast<double>(q[3 * b + c]) / kFixed;
+      row[6 * b + c] = static_cast<double>(q[3 * b + c]) / kWallFixedScale;
       row[6 * b + 3 + c] = u[c];
     }
   blocks_.add(row.data());
@@ -85,7 +82,7 @@ void WallDrag::run(StepContext& ctx) {
     ctx.comm.on_root([&] {
       OutputFile f(out_dir_ / "drag.csv", OutputFile::Mode::Append);
       f << ctx.step;
-      for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kFixed);
+      for (std::size_t k = 0; k < 3 * nb; ++k) f << fmt::format(",{:.10g}", static_cast<double>(q[k]) / kWallFixedScale);
       f << fmt::format(",{:.10g},{:.10g},{:.10g}\n", u[0], u[1], u[2]);
       f.close();
     });

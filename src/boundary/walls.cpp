@@ -17,9 +17,6 @@ namespace mesodpd {
 
 namespace {
 
-constexpr double kFixed = 4294967296.0;  // 2^32: force and momentum sums in integers (order-free)
-std::int64_t fixed(double v) { return static_cast<std::int64_t>(std::llround(v * kFixed)); }
-
 // Two unit vectors completing n to an orthonormal basis.
 void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
   const Vec3 a = std::abs(n.x) < 0.6 ? Vec3{1, 0, 0} : (std::abs(n.y) < 0.6 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
@@ -248,9 +245,9 @@ void Walls::for_near_wall(StepContext& ctx, double below, double skip_at, Far&& 
       // act() returns the velocity change of the particle (zero if none).
       const Vec3 dv = act(i, r, d, b, m, count);
       // The wall takes the momentum the particle gains, with the opposite sign, as a force over dt.
-      impulse[3 * static_cast<std::size_t>(b)] -= fixed(m * dv.x / ctx.dt);
-      impulse[3 * static_cast<std::size_t>(b) + 1] -= fixed(m * dv.y / ctx.dt);
-      impulse[3 * static_cast<std::size_t>(b) + 2] -= fixed(m * dv.z / ctx.dt);
+      impulse[3 * static_cast<std::size_t>(b)] -= wall_fixed(m * dv.x / ctx.dt);
+      impulse[3 * static_cast<std::size_t>(b) + 1] -= wall_fixed(m * dv.y / ctx.dt);
+      impulse[3 * static_cast<std::size_t>(b) + 2] -= wall_fixed(m * dv.z / ctx.dt);
     };
     if (by_cell) {
       const std::uint32_t* start = ctx.cell_start;
@@ -456,9 +453,9 @@ void Walls::add_adaptive_force(StepContext& ctx) {
       p.fz[i] += f.z;
       // The solid feels the opposite force.
       const std::size_t k = 3 * static_cast<std::size_t>(b);
-      taken[k] -= fixed(f.x);
-      taken[k + 1] -= fixed(f.y);
-      taken[k + 2] -= fixed(f.z);
+      taken[k] -= wall_fixed(f.x);
+      taken[k + 1] -= wall_fixed(f.y);
+      taken[k + 2] -= wall_fixed(f.z);
     }
 #pragma omp critical
     for (std::size_t k = 0; k < taken.size(); ++k) adaptive_impulse_[k] += taken[k];  // integers: order-free

@@ -5,6 +5,7 @@
 // frozen species (never integrated: inverse mass 0) with a body index.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,6 +19,11 @@ namespace mesodpd {
 class ByteReader;
 class ByteWriter;
 class Comm;
+
+// The fixed-point unit of the walls' per-body sums (wall_forces() and the drag built on it): 2^32 per
+// unit of force, summed in integers so that the totals do not depend on the order of the particles.
+inline constexpr double kWallFixedScale = 4294967296.0;
+inline std::int64_t wall_fixed(double v) { return static_cast<std::int64_t>(std::llround(v * kWallFixedScale)); }
 
 class Walls {
  public:
@@ -37,7 +43,7 @@ class Walls {
   // simulation also applies this to the initial state. No particle then crosses a surface, and
   // mirror_positions finds nothing.
   void reflect_velocities(StepContext& ctx);
-  // The force on each body from the walls' own rules at this step, 3 per body in 2^32 fixed point, on
+  // The force on each body from the walls' own rules at this step, 3 per body in kWallFixedScale units, on
   // this rank: the momentum per unit time the reflections took from the fluid plus the opposite of the
   // adaptive force of the last force evaluation. The drag adds the pair forces on the frozen particles.
   std::vector<std::int64_t> wall_forces() const;

@@ -54,9 +54,7 @@ void install_observers(Installation& in) {
     in.observer_state.clear();
   }
   if (!in.restarted) observers->observe(start);
-  Observers& stage = in.stages.add(StagePoint::EndOfStep, std::move(observers));
-  // The stage list owns the observers; the components hold a non-owning handle for the engine.
-  in.components.add(std::shared_ptr<Observers>(&stage, [](Observers*) {}));
+  in.components.share(in.stages.add(StagePoint::EndOfStep, std::move(observers)));
 }
 
 void install_checkpoints(Installation& in) {

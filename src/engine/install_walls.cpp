@@ -25,10 +25,8 @@ void install_walls(Installation& in) {
   Walls& w = in.components.add(std::make_shared<Walls>(spec, sim.box(), spec.integrator == IntegratorKind::GrootWarren));
   in.stages.add(StagePoint::AfterFirstHalf, make_stage([&w](StepContext& ctx) { w.mirror_positions(ctx); }));
   in.stages.add(StagePoint::AfterSecondHalf, make_stage([&w](StepContext& ctx) { w.reflect_velocities(ctx); }));
-  auto drag_stage = std::make_unique<WallDrag>(spec, w, in.options.out_dir, in.restarted, comm);
-  WallDrag& drag = *drag_stage;
-  in.stages.add(StagePoint::EndOfStep, std::move(drag_stage));
-  in.components.add(std::shared_ptr<WallDrag>(&drag, [](WallDrag*) {}));  // owned by the stage list
+  WallDrag& drag = in.components.share(in.stages.add(
+      StagePoint::EndOfStep, std::make_unique<WallDrag>(spec, w, in.options.out_dir, in.restarted, comm)));
   if (w.adaptive()) {
     // The adaptive near-wall force: applied with the other external forces, adjusted after the drag
     // sample (the drag takes the force of this step's evaluation back from the solids).

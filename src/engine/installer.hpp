@@ -31,6 +31,11 @@ class Components {
     objects_[key<T>()] = std::move(object);
     return ref;
   }
+  // An object owned elsewhere (a stage the stage list owns), shared by reference.
+  template <class T>
+  T& share(T& object) {
+    return add(std::shared_ptr<T>(&object, [](T*) {}));
+  }
   template <class T>
   T* find() const {
     auto it = objects_.find(key<T>());

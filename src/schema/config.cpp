@@ -399,21 +399,39 @@ std::vector<std::string_view> allowed_tables(std::vector<std::string_view> own, 
   return own;
 }
 
-// Each model section the file writes, read through the model's declared keys into spec.models.
+// The top-level tables the schema reads itself, and those it reads inside [analysis].
+const std::vector<std::string_view> kSchemaTables{"system", "species",  "pair",  "integrator", "run",       "neighbor",
+                                                  "init",   "output",   "poiseuille", "analysis", "parallel", "solid",
+                                                  "walls",  "bond_type", "angle_type", "molecule", "bonds"};
+const std::vector<std::string_view> kAnalysisTables{"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"};
+
+// Each model section the file writes, read through the model's declared keys into spec.models. A
+// section is [name] or [parent.name], where parent is "analysis" or a table of models alone.
 void read_models(const Section& top, const std::vector<ModelSection>& models, SimulationSpec& spec) {
   for (const ModelSection& m : models) {
     const std::vector<std::string_view> names(m.names.begin(), m.names.end());
     std::optional<Section> at;
     const std::size_t dot = m.path.find('.');
+    const std::string parent = m.path.substr(0, dot);
+    const auto listed = [](const std::vector<std::string_view>& list, std::string_view name) {
+      return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    // A model's section is a table of its own: a new [name], [analysis.name] beside the schema's
+    // analyses, or [parent.name] under a table that only models use.
+    const bool own_table =
+        dot == std::string::npos
+            ? !listed(kSchemaTables, parent)
+            : m.path.find('.', dot + 1) == std::string::npos &&
+                  (parent == "analysis" ? !listed(kAnalysisTables, m.path.substr(dot + 1)) : !listed(kSchemaTables, parent));
+    if (!own_table)
+      throw std::logic_error("model section [" + m.path + "]: a model's section must be a new [name], [analysis.name] "
+                             "or [parent.name] under a table that only models use");
     if (dot == std::string::npos) {
       at = top.table(m.path, names);
     } else {
-      const std::string parent = m.path.substr(0, dot);
       if (!top.has(parent)) continue;
       const std::vector<std::string_view> own =
-          parent == "analysis" ? std::vector<std::string_view>{"rdf", "msd", "fields", "surface_tension", "droplet",
-                                                               "stress_profile"}
-                               : std::vector<std::string_view>{};
+          parent == "analysis" ? kAnalysisTables : std::vector<std::string_view>{};
       at = top.table(parent, allowed_tables(own, parent, models))->table(m.path.substr(dot + 1), names);
     }
     if (at) spec.models[m.path] = m.read(schema::SectionReader(*at));
@@ -421,9 +439,7 @@ void read_models(const Section& top, const std::vector<ModelSection>& models, Si
 }
 
 void read_analysis(const Section& top, const std::vector<ModelSection>& models, SimulationSpec& spec) {
-  const Section s = top.table_or_empty(
-      "analysis",
-      allowed_tables({"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"}, "analysis", models));
+  const Section s = top.table_or_empty("analysis", allowed_tables(kAnalysisTables, "analysis", models));
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
   const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
                                                  "species", "exclude", "centre", "fit", "blocks", "write_every"};
@@ -499,10 +515,7 @@ SimulationSpec parse_config(std::string_view toml_text, const std::string& sourc
   for (const Model& m : mesodpd::models())
     if (m.section) models.push_back(m.section());
   const Section top(root, "",
-                    allowed_tables({"system", "species", "pair", "integrator", "run", "neighbor", "init", "output",
-                                    "poiseuille", "analysis", "parallel", "solid", "walls", "bond_type", "angle_type",
-                                    "molecule", "bonds"},
-                                   "", models),
+                    allowed_tables(kSchemaTables, "", models),
                     source_name);
   SimulationSpec spec;
   spec.source = source_name;
