@@ -16,18 +16,13 @@ build, source = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
 cxx = sys.argv[3]
 launcher = sys.argv[4] if len(sys.argv) > 4 and sys.argv[4] else None
 here = pathlib.Path(__file__).resolve().parent
-
-
-def run(cmd, **kwargs):
-    print("+", " ".join(str(c) for c in cmd), flush=True)
-    return subprocess.run([str(c) for c in cmd], check=True, **kwargs)
+sys.path.insert(0, str(here))
+import install_support  # noqa: E402
+from install_support import run  # noqa: E402
 
 
 def cache_value(name):
-    for line in (build / "CMakeCache.txt").read_text().splitlines():
-        if line.startswith(name + ":"):
-            return line.split("=", 1)[1]
-    return None
+    return install_support.cache_value(build, name)
 
 
 tmp = pathlib.Path(tempfile.mkdtemp(prefix="mesodpd-install-"))

@@ -8,24 +8,18 @@ skipped, when the build has no Python module)"""
 import os
 import pathlib
 import shutil
-import subprocess
 import sys
 import tempfile
 
 build, source = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]).resolve()
 here = pathlib.Path(__file__).resolve().parent
-
-
-def run(cmd, **kwargs):
-    print("+", " ".join(str(c) for c in cmd), flush=True)
-    return subprocess.run([str(c) for c in cmd], check=True, **kwargs)
+sys.path.insert(0, str(here))
+import install_support  # noqa: E402
+from install_support import run  # noqa: E402
 
 
 def cache_value(name):
-    for line in (build / "CMakeCache.txt").read_text().splitlines():
-        if line.startswith(name + ":"):
-            return line.split("=", 1)[1]
-    return None
+    return install_support.cache_value(build, name)
 
 
 python = cache_value("Python3_EXECUTABLE")
