@@ -57,9 +57,18 @@ struct LawTable {
   }
 };
 
+// A build may append laws of its own to the list: `#define MESODPD_EXTRA_PAIR_LAWS , LawTable<MyLaw>` in a
+// header force-included into every file of the engine, the schema and the api (the tests do, to prove
+// the recipe "add a pair force law" with a law that lives outside src/: tests/modules/).
+#ifndef MESODPD_EXTRA_PAIR_LAWS
+#define MESODPD_EXTRA_PAIR_LAWS
+#endif
+
 // Every law the shared pair loop is instantiated for (per SIMD target), in the order of PairStyle: the
-// one list of pair laws. The schema takes the style names and keys from it.
-using PairLawTables = std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>>;
+// one list of pair laws. The schema takes the style names and keys from it. A law appended here needs
+// no enumerator in PairStyle: the index is its style.
+using PairLawTables =
+    std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw> MESODPD_EXTRA_PAIR_LAWS>;
 inline constexpr std::size_t kPairLawCount = std::variant_size_v<PairLawTables>;
 
 // What one law of the list declares (physics/law_keys.hpp), without its type: for the schema.
