@@ -215,8 +215,9 @@ ShapeSpec read_shape(const Section& s, const fs::path& base_dir) {
 }
 
 void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
-  std::vector<std::string_view> keys = solid_keys().names();
-  for (const std::string_view k : shape_names()) keys.push_back(k);
+  // The shape's keys first: the order of the list that an unknown key's message gives.
+  std::vector<std::string_view> keys = shape_names();
+  for (const std::string_view k : solid_keys().names()) keys.push_back(k);
   for (const Section& s : top.tables("solid", keys)) {
     SolidSpec& solid = spec.solids.emplace_back();
     read_keys(solid_keys(), s, solid);

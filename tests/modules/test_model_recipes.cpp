@@ -138,7 +138,7 @@ TEST(ModelRecipes, ADeclaredKeyAppearsInTheCheckSummary) {
   EXPECT_NE(summary.find("\n  analysis.test_moments: defaults\n"), std::string::npos) << summary;
   EXPECT_EQ(summary.find("test_late"), std::string::npos) << summary;
   EXPECT_NE(summary.find("\n  system: box = [6, 6, 6] r_c, seed = 7\n"), std::string::npos) << summary;
-  EXPECT_NE(summary.find("\n  species[0]: name = \"A\", density = 3\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n  species[0]: name = \"A\", density = 3, count = 648\n"), std::string::npos) << summary;
   EXPECT_NE(summary.find("\n  run: steps = 300\n"), std::string::npos) << summary;
 }
 
