@@ -236,6 +236,8 @@ int main(int argc, char** argv) {
       const std::uint64_t n = mesodpd::check_initial_state(spec);
       fmt::print("{}: valid ({} species, {} particles{})\n", check_config, spec.species.size(), n,
                  spec.data_file.empty() ? "" : " from " + spec.data_file);
+      // The settings the file changes, table by table as the keys are declared (with their units).
+      fmt::print("{}", mesodpd::declared_values_summary(spec));
       // What a user should know before the run: Reynolds, Schmidt and Mach numbers, dt for the thermostat.
       fmt::print("{}", mesodpd::format_flow_numbers(mesodpd::flow_numbers(spec)));
       for (const std::string& w : mesodpd::spec_warnings(spec)) fmt::print(stderr, "warning: {}\n", w);

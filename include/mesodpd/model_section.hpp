@@ -23,6 +23,7 @@ struct ModelSection {
   std::string minimal;                  // TOML lines a table needs besides one key (docs tests)
   std::function<std::any(const keys::Reader&)> read;           // the values the table holds (defaults else)
   std::function<void(std::any&, const SimulationSpec&)> check;  // ranges, then the model's cross-checks
+  std::function<std::vector<std::string>(const std::any&)> values;  // "key = value" of what differs from the defaults
 };
 
 // The section of a model whose values are a T declared by `table`; `cross_check` (optional) throws a
@@ -47,6 +48,7 @@ ModelSection model_section(const keys::KeyTable<T>& table,
     table.check(table.path(), v);
     if (cross_check) cross_check(v, spec);
   };
+  s.values = [&table](const std::any& value) { return table.set_values(std::any_cast<const T&>(value)); };
   return s;
 }
 

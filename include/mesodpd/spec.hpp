@@ -221,8 +221,10 @@ struct BondTypeSpec {
 };
 
 // [[angle_type]]: U = k [1 - cos(theta - theta0)] (seed 002 Eq. 32), theta between the bond vectors.
+enum class AngleStyleSpec { Cosine };
 struct AngleTypeSpec {
   std::string name;
+  AngleStyleSpec style = AngleStyleSpec::Cosine;  // the one angle law
   double k = 0;
   double theta0_deg = 0;  // theta0 in degrees (0: straight)
 };

@@ -1,5 +1,5 @@
-// The keys of [analysis.rdf], [analysis.msd], [analysis.surface_tension], [analysis.droplet] and
-// [analysis.stress_profile]; cross-checks against the box and other sections are in src/schema/validate.cpp.
+// The keys of [analysis.rdf], [analysis.msd], [analysis.fields], [analysis.surface_tension],
+// [analysis.droplet] and [analysis.stress_profile]; cross-checks against the box and other sections are in src/schema/validate.cpp.
 #include "analysis/analysis_keys.hpp"
 
 namespace mesodpd {
@@ -24,6 +24,38 @@ const keys::KeyTable<MsdSpec>& msd_keys() {
     keys::KeyTable<T> t("analysis.msd");
     t.integer("start", &T::start, {0}, "Step taken as the time origin.");
     t.integer("every", &T::every, {1}, "Sampling interval.");
+    return t;
+  }();
+  return table;
+}
+
+const keys::KeyTable<FieldsSpec>& fields_keys() {
+  using T = FieldsSpec;
+  static const keys::KeyTable<T> table = [] {
+    keys::KeyTable<T> t("analysis.fields");
+    t.string("name", &T::name, "Prefix of the output files.")
+      .allowed("letters, digits, `_`, `-`; unique per run");
+    t.ints3("bins", &T::bins, {1}, "bins", "Bins along x, y, z; 1 averages over that axis.")
+      .allowed("each >= 1, at most 4,000,000 bins in all");
+    t.vec3("lo", &T::lo, keys::kFinite, "Lower corner of the binned region.")
+      .default_text("[0.0, 0.0, 0.0]")
+      .allowed("`0 <= lo < box`");
+    t.vec3("hi", &T::hi, keys::kFinite, "Upper corner. Particles outside `[lo, hi)` are not binned.")
+      .default_text("the box lengths")
+      .allowed("`lo < hi <= box`");
+    t.integer("start", &T::start, {0}, "First sampled step.");
+    t.integer("every", &T::every, {1}, "Sampling interval (steps that are multiples of it, from `start`).");
+    t.strings("species", &T::species, "Species whose particles make `density`, `velocity` and `temperature`.")
+      .default_text("all species")
+      .allowed("species names");
+    t.strings("exclude", &T::exclude, "Or: every species but these (e.g. frozen wall particles).")
+      .default_text("none")
+      .allowed("species names; not with `species`");
+    t.choice("centre", &T::centre_axis, {{"none", -1}, {"x", 0}, {"y", 1}, {"z", 2}}, "Shift each sample along this axis so that the selected species' centre of mass sits at the middle of the box: a slab or drop that drifts does not smear the profile.")
+      .allowed("`\"none\"`, `\"x\"`, `\"y\"`, `\"z\"` (a periodic axis)");
+    t.choice("fit", &T::fit, {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}, "`\"slab\"`: fit a tanh profile to the 1-D density (needs `bins` > 1 along exactly one axis, and at least 8 there).");
+    t.integer("blocks", &T::blocks, {2}, "Blocks for the slab fit's error bars: samples go into B to 2B − 1 blocks of equal size (merged pairwise as the run grows); each block's profile is fitted on its own.");
+    t.integer("write_every", &T::write_every, {0}, "Also write the output files at the steps that are multiples of this (after `start`; the averages go on, and the end of the run writes them again), to look at a long run while it goes; 0: at the end only.");
     return t;
   }();
   return table;

@@ -7,6 +7,7 @@ namespace mesodpd {
 
 const keys::KeyTable<RdfSpec>& rdf_keys();
 const keys::KeyTable<MsdSpec>& msd_keys();
+const keys::KeyTable<FieldsSpec>& fields_keys();  // [analysis.fields] or each [[analysis.fields]]
 const keys::KeyTable<SurfaceTensionSpec>& surface_tension_keys();
 const keys::KeyTable<DropletSpec>& droplet_keys();
 const keys::KeyTable<StressProfileSpec>& stress_profile_keys();

@@ -1,5 +1,6 @@
-// The keys of [walls] (reflection, frozen depth, drag, adaptive force) and [poiseuille] (reverse Poiseuille
-// flow); their cross-checks are in src/schema/validate.cpp.
+// The keys of [[solid]] and its shape tables (also [[species]] region), [walls] (reflection, frozen depth,
+// drag, adaptive force) and [poiseuille] (reverse Poiseuille flow); their cross-checks are in
+// src/schema/validate.cpp.
 #include "boundary/boundary_keys.hpp"
 
 namespace mesodpd {
@@ -32,6 +33,64 @@ const keys::KeyTable<WallsSpec>& walls_keys() {
     t.integer("adaptive_every", &T::adaptive_every, {1}, "Steps between updates (the densities are counted at every step).");
     t.integer("adaptive_stop", &T::adaptive_stop, {0}, "No updates after this step: the force stays as it is.")
       .default_text("0 (never)");
+    return t;
+  }();
+  return table;
+}
+
+const keys::KeyTable<ShapeSpec>& shape_keys() {
+  using T = ShapeSpec;
+  static const keys::KeyTable<T> table = [] {
+    keys::KeyTable<T> t("shape");
+    t.choice("shape", &T::kind, {{"plane", ShapeKind::Plane}, {"cylinder", ShapeKind::Cylinder}, {"sphere", ShapeKind::Sphere}, {"box", ShapeKind::Box}, {"pillars", ShapeKind::Pillars}, {"image", ShapeKind::Image}, {"union", ShapeKind::Union}, {"difference", ShapeKind::Difference}}, "The shape (its signed distance: the table below) and the keys it reads; a key that the shape does not read is refused.")
+      .required(" (plane, cylinder, sphere, box, pillars, image, union or difference)")
+      .selects("not used by {key} = {value}", " (needed by {key} = {value})")
+      .variant(ShapeKind::Plane, {"point", "normal"})
+      .variant(ShapeKind::Cylinder, {"center", "direction", "radius"})
+      .variant(ShapeKind::Sphere, {"center", "radius"})
+      .variant(ShapeKind::Box, {"lo", "hi"})
+      .variant(ShapeKind::Pillars, {"lattice", "spacing", "radius"}, {"axis", "point"})
+      .variant(ShapeKind::Image, {"file", "voxel_size"}, {"axis", "invert"})
+      .variant(ShapeKind::Union, {"parts"})
+      .variant(ShapeKind::Difference, {"parts"});
+    t.vec3("point", &T::point, keys::kFinite, "`plane`: a point of the surface; `pillars`: the lattice origin.")
+      .default_text("required (plane); [0.0, 0.0, 0.0] (pillars)");
+    t.vec3("normal", &T::normal, keys::kFinite, "`plane`: the normal, pointing into the fluid (normalised; not the zero vector, and along bounded axes only).");
+    t.vec3("center", &T::center, keys::kFinite, "`cylinder`: a point of the axis; `sphere`: the centre.");
+    t.vec3("direction", &T::direction, keys::kFinite, "`cylinder`: the direction of the axis (normalised; not the zero vector).");
+    t.number("radius", &T::radius, keys::kPositive, "`cylinder`, `sphere`, `pillars`: the radius.")
+      .allowed("> 0; 2 x radius >= `walls.depth`");
+    t.vec3("lo", &T::lo, keys::kFinite, "`box`: the lower corner.");
+    t.vec3("hi", &T::hi, keys::kFinite, "`box`: the upper corner.")
+      .allowed("> `lo`; hi - lo >= `walls.depth` where the box ends inside the simulation box");
+    t.choice("lattice", &T::lattice, {{"square", Lattice::Square}, {"hexagonal", Lattice::Hexagonal}}, "`pillars`: the lattice of the pillar axes.")
+      .default_text("required (pillars)");
+    t.number("spacing", &T::spacing, keys::kPositive, "`pillars`: the centre-to-centre distance L.")
+      .allowed("> 2 x `radius`");
+    t.axis("axis", &T::axis, "`pillars`: the pillar axis; `image`: the extrusion axis of a 2-D image.");
+    t.string("file", &T::file, "`image`: a PGM (2-D, extruded) or MESODPD-VOXELS (3-D) file (*Image files* below); relative to the config file.")
+      .default_text("required (image)")
+      .allowed("an existing file");
+    t.number("voxel_size", &T::voxel_size, keys::kPositive, "`image`: the edge of one pixel or voxel (the image covers the box exactly).");
+    t.boolean("invert", &T::invert, "`image`: swap solid and fluid.");
+    t.custom("parts", "array of shape tables", "required (union, difference)", "at least one shape", "`union`, `difference`: the shapes combined, inline tables with `shape` and its keys.");
+    return t;
+  }();
+  return table;
+}
+
+const keys::KeyTable<SolidSpec>& solid_keys() {
+  using T = SolidSpec;
+  static const keys::KeyTable<T> table = [] {
+    keys::KeyTable<T> t("solid");
+    t.string("name", &T::name, "Body name (columns of `drag.csv`).")
+      .required()
+      .allowed("letters/digits/`_`, unique");
+    t.string("species", &T::species, "The species its frozen particles become.")
+      .required(" (the frozen species its particles become)")
+      .allowed("a species with `frozen = true`");
+    t.vec3("velocity", &T::velocity, keys::kFinite, "Wall velocity (Couette flow): the body's particles move with it, and reflections are taken relative to it.")
+      .allowed("finite; only for planes, perpendicular to `normal`");
     return t;
   }();
   return table;

@@ -48,6 +48,13 @@ void check_int(const std::string& key, long long v, IntRange r) {
   if (v > r.hi) fail(key, fmt::format("{}", v), fmt::format("must be an integer <= {}", r.hi));
 }
 
+std::string fill_in(std::string text, std::string_view key, std::string_view value) {
+  for (const auto& [token, with] : {std::pair<std::string_view, std::string_view>{"{key}", key}, {"{value}", value}})
+    for (std::size_t at = text.find(token); at != std::string::npos; at = text.find(token, at + with.size()))
+      text.replace(at, token.size(), with);
+  return text;
+}
+
 std::string doc_number(double v) {
   if (std::isfinite(v) && v == std::trunc(v) && std::abs(v) < 1e15) return fmt::format("{:.1f}", v);
   return fmt::format("{}", v);

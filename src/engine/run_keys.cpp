@@ -13,7 +13,8 @@ const keys::KeyTable<SimulationSpec>& system_keys() {
     keys::KeyTable<S> t("system");
     t.vec3("box", &S::box, keys::kPositive, "Lengths of the orthorhombic box (periodic unless `periodic` says otherwise). The minimum-image convention needs every length to be at least twice the largest `rc`/`rd` of any species pair; otherwise the error names `system.box`. On more than one MPI rank every periodic length must also be at least 3 x (largest cutoff + skin), i.e. hold three neighbour cells (see `[parallel]`).")
       .required(" (three positive box lengths)")
-      .allowed("each > 0 and >= 2 x the largest cutoff");
+      .allowed("each > 0 and >= 2 x the largest cutoff")
+      .unit("r_c");
     t.bool3("periodic", &S::periodic, "Per axis x, y, z: periodic (`true`) or bounded (`false`). A bounded axis has no periodic images: pairs are not formed across its two faces, particles are not wrapped there, and no ghosts or particles cross it between MPI ranks. A bounded axis must be closed at both faces by solids at least `walls.depth` thick (see [Walls and solids](#walls-and-solids-solid-and-walls)); without any `[[solid]]` a `false` is refused (naming `species[k].body_force` when a body force pushes along that axis, `system.periodic` otherwise).")
       .allowed("a `false` needs `[[solid]]` walls closing both faces");
     t.number("kT", &S::kT, keys::kPositive, "Thermostat temperature k_BT. Enters the fluctuation-dissipation relation sigma^2 = 2 gamma kT (seed 000 Eq. 7).");
@@ -65,7 +66,8 @@ const keys::KeyTable<SimulationSpec>& parallel_keys() {
   using S = SimulationSpec;
   static const keys::KeyTable<S> table = [] {
     keys::KeyTable<S> t("parallel");
-    t.custom("grid", "array of 3 integers", "[0, 0, 0]", "each 0 to 65536 (whole numbers)", "Ranks along x, y, z. A 0 entry is chosen automatically; the automatic choice minimises the ghost volume per rank. The product of the entries must equal the number of ranks; with some entries 0, the others must be part of a factorisation of it.");
+    t.ints3("grid", &S::parallel_grid, {0, 65536}, "ranks (0 = choose)", "Ranks along x, y, z. A 0 entry is chosen automatically; the automatic choice minimises the ghost volume per rank. The product of the entries must equal the number of ranks; with some entries 0, the others must be part of a factorisation of it.")
+      .allowed("each 0 to 65536 (whole numbers)");
     return t;
   }();
   return table;

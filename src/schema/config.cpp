@@ -32,6 +32,7 @@
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
 #include "schema/section.hpp"
+#include "schema/species_keys.hpp"
 
 namespace mesodpd {
 namespace {
@@ -39,11 +40,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace schema;
 
-// ---------------------------------------------------------------------------------------------
-// The keys of a shape table ([[solid]] blocks add name, species and velocity).
-const std::vector<std::string_view> kShapeKeys{"shape",   "point",   "normal", "center",     "direction",
-                                               "radius",  "lo",      "hi",     "lattice",    "spacing",
-                                               "axis",    "file",    "voxel_size", "invert", "parts"};
+// The keys of a shape table: a [[solid]] block's (with the solid's own), an element of `parts`, a region.
+std::vector<std::string_view> shape_names() { return shape_keys().names(); }
 
 // ---------------------------------------------------------------------------------------------
 // Schema, one function per table
@@ -90,21 +88,13 @@ void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spe
 ShapeSpec read_shape(const Section& s, const fs::path& base_dir);
 
 void read_species(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
-  const std::vector<Section> list = top.tables(
-      "species", {"name", "mass", "a", "body_force", "density", "count", "placement", "frozen", "region"});
+  const std::vector<Section> list = top.tables("species", species_keys().names());
   if (list.empty()) top.missing("species", " (at least one [[species]] block is needed)");
   const bool from_data = !spec.data_file.empty();
   for (const Section& s : list) {
     SpeciesSpec sp;
-    const auto name = s.string("name");
-    if (!name) s.missing("name");
-    sp.name = *name;
-    read_real(s, "mass", sp.mass);
-    sp.a = s.real("a");
-    sp.body_force = s.vec3("body_force").value_or(std::array<double, 3>{0, 0, 0});
-    sp.density = s.real("density");
-    const auto count = optional_int(s, "count", 0);
-    sp.frozen = s.boolean("frozen").value_or(false);
+    read_keys(species_keys(), s, sp);
+    // Which keys go together depends on the other tables: a frozen species, a data file, molecules.
     if (sp.frozen) {
       // Frozen (wall) particles are made by freezing the fluid inside [[solid]] blocks.
       for (const std::string_view key : {"count", "density", "placement", "region"})
@@ -116,17 +106,13 @@ void read_species(const Section& top, const fs::path& base_dir, SimulationSpec& 
         if (s.has(key)) s.bad(key, "not allowed with init.lammps_data (particles come from the data file)");
       }
     } else {
-      if (sp.density && count)
+      if (sp.density && s.has("count"))
         s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
       // A species used only in [[molecule]]s may leave both out (count 0).
-      if (!sp.density && !count && !top.has("molecule"))
+      if (!sp.density && !s.has("count") && !top.has("molecule"))
         s.missing("density", fmt::format(" (or {})", s.name("count")));
-      if (count) sp.count = static_cast<std::uint64_t>(*count);
     }
-    sp.placement =
-        s.choice<Placement>("placement", {{"random", Placement::Random}, {"lattice", Placement::Lattice}})
-            .value_or(Placement::Random);
-    if (const auto region = s.table("region", kShapeKeys)) sp.region = read_shape(*region, base_dir);
+    if (const auto region = s.table("region", shape_names())) sp.region = read_shape(*region, base_dir);
     spec.species.push_back(std::move(sp));
   }
 }
@@ -159,80 +145,17 @@ void read_pair(const Section& top, SimulationSpec& spec) {
 
 // [[bond_type]], [[angle_type]], [[molecule]] and [bonds]: bonded interactions and the molecule builder.
 void read_topology(const Section& top, SimulationSpec& spec) {
-  for (const Section& s : top.tables("bond_type", {"name", "style", "k", "r0", "rmax", "persistence"})) {
-    BondTypeSpec b;
-    const auto name = s.string("name");
-    if (!name) s.missing("name");
-    b.name = *name;
-    const auto style = s.choice<BondStyleSpec>(
-        "style", {{"harmonic", BondStyleSpec::Harmonic}, {"fene", BondStyleSpec::Fene}, {"wlc", BondStyleSpec::Wlc}});
-    if (!style) s.missing("style", " (\"harmonic\", \"fene\" or \"wlc\")");
-    b.style = *style;
-    // Each style reads its own keys; a key another style reads is refused rather than ignored.
-    auto need = [&](std::string_view key, double& out) {
-      const auto v = s.real(key);
-      if (!v) s.missing(key, fmt::format(" (style \"{}\" needs it)", s.string("style").value_or("")));
-      out = *v;
-    };
-    auto refuse = [&](std::string_view key) {
-      if (s.has(key)) s.bad(key, fmt::format("not used by style \"{}\"", s.string("style").value_or("")));
-    };
-    switch (b.style) {
-      case BondStyleSpec::Harmonic:
-        need("k", b.k);
-        read_real(s, "r0", b.r0);
-        refuse("rmax");
-        refuse("persistence");
-        break;
-      case BondStyleSpec::Fene:
-        need("k", b.k);
-        need("rmax", b.rmax);
-        refuse("r0");
-        refuse("persistence");
-        break;
-      case BondStyleSpec::Wlc:
-        need("persistence", b.persistence);
-        need("rmax", b.rmax);
-        refuse("k");
-        refuse("r0");
-        break;
-    }
-    spec.bond_types.push_back(std::move(b));
-  }
-  for (const Section& s : top.tables("angle_type", {"name", "style", "k", "theta0"})) {
-    AngleTypeSpec a;
-    const auto name = s.string("name");
-    if (!name) s.missing("name");
-    a.name = *name;
-    s.choice<int>("style", {{"cosine", 0}});
-    const auto k = s.real("k");
-    if (!k) s.missing("k");
-    a.k = *k;
-    read_real(s, "theta0", a.theta0_deg);
-    spec.angle_types.push_back(std::move(a));
-  }
-  for (const Section& s : top.tables("molecule", {"name", "sequence", "bond_type", "angle_type", "count", "density",
-                                                  "bond_length"})) {
-    MoleculeSpec m;
-    const auto name = s.string("name");
-    if (!name) s.missing("name");
-    m.name = *name;
-    const auto seq = s.string("sequence");
-    if (!seq) s.missing("sequence", " (e.g. \"A10\", \"H1T4\" or \"H3(T4)2\")");
-    m.sequence = *seq;
-    const auto bt = s.string("bond_type");
-    if (!bt) s.missing("bond_type");
-    m.bond_type = *bt;
-    m.angle_type = s.string("angle_type").value_or("");
-    m.density = s.real("density");
-    const auto count = optional_int(s, "count", 0);
-    if (m.density && count) s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
-    if (!m.density && !count) s.missing("count", fmt::format(" (or {})", s.name("density")));
-    if (count) m.count = static_cast<std::uint64_t>(*count);
-    read_real(s, "bond_length", m.bond_length);
+  for (const Section& s : top.tables("bond_type", bond_type_keys().names()))
+    read_keys(bond_type_keys(), s, spec.bond_types.emplace_back());
+  for (const Section& s : top.tables("angle_type", angle_type_keys().names()))
+    read_keys(angle_type_keys(), s, spec.angle_types.emplace_back());
+  for (const Section& s : top.tables("molecule", molecule_keys().names())) {
+    MoleculeSpec& m = spec.molecules.emplace_back();
+    read_keys(molecule_keys(), s, m);
+    if (m.density && s.has("count")) s.bad("count", fmt::format("give only one of {} and {}", s.name("density"), s.name("count")));
+    if (!m.density && !s.has("count")) s.missing("count", fmt::format(" (or {})", s.name("density")));
     if (!spec.data_file.empty())
       s.bad("sequence", "not allowed with init.lammps_data (molecules come from the data file's Bonds section)");
-    spec.molecules.push_back(std::move(m));
   }
   read_keys(bonds_keys(), top.table_or_empty("bonds", bonds_keys().names()), spec);
 }
@@ -254,15 +177,7 @@ void read_neighbor(const Section& top, SimulationSpec& spec) {
 }
 
 void read_parallel(const Section& top, SimulationSpec& spec) {
-  const Section s = top.table_or_empty("parallel", parallel_keys().names());
-  if (const auto g = s.vec3("grid")) {
-    for (std::size_t d = 0; d < 3; ++d) {
-      const double v = (*g)[d];
-      if (!(std::abs(v) <= INT_MAX) || v != std::trunc(v))
-        s.bad("grid", fmt::format("element {} is {}, not a whole number of ranks (0 = choose)", d, v));
-      spec.parallel_grid[d] = static_cast<int>(v);
-    }
-  }
+  read_keys(parallel_keys(), top.table_or_empty("parallel", parallel_keys().names()), spec);
 }
 
 void read_output(const Section& top, SimulationSpec& spec) {
@@ -285,101 +200,35 @@ void read_poiseuille(const Section& top, SimulationSpec& spec) {
 }
 
 // One shape table: a [[solid]] block or an element of its `parts`. Keys that the shape does not use
-// are refused, so a cylinder's `radius` written under a plane is not silently ignored.
+// are refused (shape_keys() says which keys each shape reads), so a cylinder's `radius` written under a
+// plane is not silently ignored.
 ShapeSpec read_shape(const Section& s, const fs::path& base_dir) {
   ShapeSpec sh;
-  const auto kind = s.choice<ShapeKind>("shape", {{"plane", ShapeKind::Plane},
-                                                   {"cylinder", ShapeKind::Cylinder},
-                                                   {"sphere", ShapeKind::Sphere},
-                                                   {"box", ShapeKind::Box},
-                                                   {"pillars", ShapeKind::Pillars},
-                                                   {"image", ShapeKind::Image},
-                                                   {"union", ShapeKind::Union},
-                                                   {"difference", ShapeKind::Difference}});
-  if (!kind) s.missing("shape", " (plane, cylinder, sphere, box, pillars, image, union or difference)");
-  sh.kind = *kind;
-  std::vector<std::string_view> required, optional;
-  switch (sh.kind) {
-    case ShapeKind::Plane: required = {"point", "normal"}; break;
-    case ShapeKind::Cylinder: required = {"center", "direction", "radius"}; break;
-    case ShapeKind::Sphere: required = {"center", "radius"}; break;
-    case ShapeKind::Box: required = {"lo", "hi"}; break;
-    case ShapeKind::Pillars: required = {"lattice", "spacing", "radius"}, optional = {"axis", "point"}; break;
-    case ShapeKind::Image: required = {"file", "voxel_size"}, optional = {"axis", "invert"}; break;
-    case ShapeKind::Union:
-    case ShapeKind::Difference: required = {"parts"}; break;
+  read_keys(shape_keys(), s, sh);
+  if (s.has("file")) {
+    if (sh.file.empty()) s.bad("file", "must be a non-empty path");
+    sh.file = fs::absolute(base_dir / fs::path(sh.file)).lexically_normal().string();
   }
-  const std::vector<std::string_view> shape_keys{"point", "normal", "center", "direction", "radius", "lo", "hi",
-                                                 "lattice", "spacing", "axis", "file", "voxel_size", "invert", "parts"};
-  for (const std::string_view key : shape_keys) {
-    const bool needed = std::find(required.begin(), required.end(), key) != required.end();
-    const bool allowed = needed || std::find(optional.begin(), optional.end(), key) != optional.end();
-    if (s.has(key) && !allowed) s.bad(key, fmt::format("not used by {} = {}", s.name("shape"), show(*s.get("shape"))));
-    if (!s.has(key) && needed) s.missing(key, fmt::format(" (needed by {} = {})", s.name("shape"), show(*s.get("shape"))));
-  }
-  if (auto v = s.vec3("point")) sh.point = *v;
-  if (auto v = s.vec3("normal")) sh.normal = *v;
-  if (auto v = s.vec3("center")) sh.center = *v;
-  if (auto v = s.vec3("direction")) sh.direction = *v;
-  if (auto v = s.vec3("lo")) sh.lo = *v;
-  if (auto v = s.vec3("hi")) sh.hi = *v;
-  read_real(s, "radius", sh.radius);
-  read_real(s, "spacing", sh.spacing);
-  read_real(s, "voxel_size", sh.voxel_size);
-  sh.lattice = s.choice<Lattice>("lattice", {{"square", Lattice::Square}, {"hexagonal", Lattice::Hexagonal}})
-                   .value_or(Lattice::Square);
-  sh.axis = s.choice<int>("axis", {{"x", 0}, {"y", 1}, {"z", 2}}).value_or(2);
-  sh.invert = s.boolean("invert").value_or(false);
-  if (const auto file = s.string("file")) {
-    if (file->empty()) s.bad("file", "must be a non-empty path");
-    sh.file = fs::absolute(base_dir / fs::path(*file)).lexically_normal().string();
-  }
-  for (const Section& part : s.tables("parts", kShapeKeys)) sh.parts.push_back(read_shape(part, base_dir));
+  for (const Section& part : s.tables("parts", shape_names())) sh.parts.push_back(read_shape(part, base_dir));
   if (s.has("parts") && sh.parts.empty()) s.bad("parts", "needs at least one shape table");
   return sh;
 }
 
 void read_solids(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
-  std::vector<std::string_view> keys = kShapeKeys;
-  for (const std::string_view k : {"name", "species", "velocity"}) keys.push_back(k);
+  // The shape's keys first: the order of the list that an unknown key's message gives.
+  std::vector<std::string_view> keys = shape_names();
+  for (const std::string_view k : solid_keys().names()) keys.push_back(k);
   for (const Section& s : top.tables("solid", keys)) {
-    SolidSpec solid;
-    const auto name = s.string("name");
-    if (!name) s.missing("name");
-    solid.name = *name;
-    const auto species = s.string("species");
-    if (!species) s.missing("species", " (the frozen species its particles become)");
-    solid.species = *species;
-    solid.velocity = s.vec3("velocity").value_or(std::array<double, 3>{0, 0, 0});
+    SolidSpec& solid = spec.solids.emplace_back();
+    read_keys(solid_keys(), s, solid);
     solid.shape = read_shape(s, base_dir);
-    spec.solids.push_back(std::move(solid));
   }
   const auto w = top.table("walls", walls_keys().names());
   if (w) read_keys(walls_keys(), *w, spec.walls);
 }
 
-void read_fields(const Section& f, SimulationSpec& spec) {
-  FieldsSpec& out = spec.fields.emplace_back();
-  if (auto name = f.string("name")) out.name = std::move(*name);
-  if (const auto b = f.vec3("bins")) {
-    for (std::size_t d = 0; d < 3; ++d) {
-      const double v = (*b)[d];
-      if (!(std::abs(v) <= INT_MAX) || v != std::trunc(v))
-        f.bad("bins", fmt::format("element {} is {}, not a whole number of bins", d, v));
-      out.bins[d] = static_cast<int>(v);
-    }
-  }
-  out.lo = f.vec3("lo");
-  out.hi = f.vec3("hi");
-  read_uint(f, "start", out.start);
-  read_uint(f, "every", out.every);
-  if (auto sp = f.strings("species")) out.species = std::move(*sp);
-  if (auto ex = f.strings("exclude")) out.exclude = std::move(*ex);
-  out.centre_axis = f.choice<int>("centre", {{"none", -1}, {"x", 0}, {"y", 1}, {"z", 2}}).value_or(-1);
-  read_int(f, "blocks", out.blocks);
-  read_uint(f, "write_every", out.write_every);
-  out.fit = f.choice<FieldsFit>("fit", {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}).value_or(FieldsFit::None);
-}
+// Each [analysis.fields] or [[analysis.fields]] grid.
+void read_fields(const Section& f, SimulationSpec& spec) { read_keys(fields_keys(), f, spec.fields.emplace_back()); }
 
 // The tables a table may hold: the schema's own, then those the model sections add under it (a model's
 // [analysis.x] or [x], engine/installer.hpp).
@@ -441,12 +290,10 @@ void read_models(const Section& top, const std::vector<ModelSection>& models, Si
 void read_analysis(const Section& top, const std::vector<ModelSection>& models, SimulationSpec& spec) {
   const Section s = top.table_or_empty("analysis", allowed_tables(kAnalysisTables, "analysis", models));
   // [analysis.fields] once, or [[analysis.fields]] for several grids in one run.
-  const std::vector<std::string_view> kFieldKeys{"name", "bins", "lo", "hi", "start", "every",
-                                                 "species", "exclude", "centre", "fit", "blocks", "write_every"};
   if (const toml::node* n = s.get("fields"); n && n->is_table()) {
-    read_fields(*s.table("fields", kFieldKeys), spec);
+    read_fields(*s.table("fields", fields_keys().names()), spec);
   } else if (n) {
-    for (const Section& f : s.tables("fields", kFieldKeys)) read_fields(f, spec);
+    for (const Section& f : s.tables("fields", fields_keys().names())) read_fields(f, spec);
   }
   // A sub-table whose presence turns its analysis on, read into `out` from the keys it declares.
   const auto optional_table = [&](const auto& table, std::string_view name, auto& out) {

@@ -9,6 +9,7 @@
 #include <array>
 #include <cctype>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
@@ -348,6 +349,19 @@ class SectionReader final : public keys::Reader {
   void read(std::string_view key, std::array<double, 3>& out) const override {
     if (const auto v = s_.vec3(key)) out = *v;
   }
+  void read(std::string_view key, std::optional<std::array<double, 3>>& out) const override {
+    if (const auto v = s_.vec3(key)) out = *v;
+  }
+  void read(std::string_view key, std::array<int, 3>& out, std::string_view noun) const override {
+    if (const auto v = s_.vec3(key)) {
+      for (std::size_t d = 0; d < 3; ++d) {
+        const double x = (*v)[d];
+        if (!(std::abs(x) <= INT_MAX) || x != std::trunc(x))
+          s_.bad(key, fmt::format("element {} is {}, not a whole number of {}", d, x, noun));
+        out[d] = static_cast<int>(x);
+      }
+    }
+  }
   void read(std::string_view key, std::array<bool, 3>& out) const override {
     if (const auto v = s_.bool3(key)) out = *v;
   }
@@ -359,6 +373,9 @@ class SectionReader final : public keys::Reader {
     return s_.choice_of(key, options);
   }
   [[noreturn]] void missing(std::string_view key, std::string_view hint) const override { s_.missing(key, hint); }
+  [[noreturn]] void refuse(std::string_view key, std::string_view why) const override { s_.bad(key, why); }
+  std::string full_name(std::string_view key) const override { return s_.name(key); }
+  std::string written(std::string_view key) const override { return show(*s_.get(key)); }
 
  private:
   const Section& s_;

@@ -24,6 +24,7 @@
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
 #include "io/frame.hpp"
+#include "schema/species_keys.hpp"
 
 namespace mesodpd {
 
@@ -58,17 +59,6 @@ using keys::Range;
 
 void check(const std::string& key, const std::optional<double>& v, Range r) {
   if (v) check(key, *v, r);
-}
-void check(const std::string& key, const std::array<double, 3>& v, Range r) {
-  for (std::size_t d = 0; d < 3; ++d) check(fmt::format("{}[{}]", key, d), v[d], r);
-}
-template <class Int>
-void check_at_least(const std::string& key, Int v, long long lo) {
-  keys::check_int(key, static_cast<long long>(v), keys::IntRange{lo});
-}
-template <class Int>
-void check_between(const std::string& key, Int v, long long lo, long long hi) {
-  keys::check_int(key, static_cast<long long>(v), keys::IntRange{lo, hi});
 }
 
 std::string species_key(std::size_t k, std::string_view field) { return fmt::format("species[{}].{}", k, field); }
@@ -131,15 +121,12 @@ void validate_species(SimulationSpec& spec) {
     for (std::size_t prev = 0; prev < k; ++prev)
       if (spec.species[prev].name == sp.name)
         fail(species_key(k, "name"), show(sp.name), fmt::format("duplicate species name (also species[{}].name)", prev));
-    check(species_key(k, "mass"), sp.mass, kPositive);
-    check(species_key(k, "a"), sp.a, kNonNegative);
+    species_keys().check(fmt::format("species[{}]", k), sp);
     if (mixing == Mixing::Geometric && !sp.a)
       fail(species_key(k, "a"), "", "missing: pair.mixing = \"geometric\" needs a for every species");
     if (mixing == Mixing::Explicit && sp.a)
       fail(species_key(k, "a"), show(*sp.a),
            "only used with pair.mixing = \"geometric\"; use pair.a or [[pair.override]] instead");
-    check(species_key(k, "body_force"), sp.body_force, kFinite);
-    check(species_key(k, "density"), sp.density, kPositive);
     if (from_data) {
       // Positions, and so counts, come from the data file.
       if (sp.density)
@@ -341,9 +328,7 @@ void validate_run(SimulationSpec& spec) { run_keys().check("run", spec); }
 
 void validate_neighbor(SimulationSpec& spec) { neighbor_keys().check("neighbor", spec); }
 
-void validate_parallel(SimulationSpec& spec) {
-  for (std::size_t d = 0; d < 3; ++d) check_between(fmt::format("parallel.grid[{}]", d), spec.parallel_grid[d], 0, 65536);
-}
+void validate_parallel(SimulationSpec& spec) { parallel_keys().check("parallel", spec); }
 
 void validate_output(SimulationSpec& spec) {
   output_keys().check("output", spec);
@@ -434,17 +419,13 @@ void validate_fields(SimulationSpec& spec) {
       if (spec.fields[prev].name == f.name)
         fail(key + ".name", show(f.name),
              fmt::format("also the name of analysis.fields[{}]; each grid needs its own name (its output files)", prev));
+    fields_keys().check(key, f);
     double total = 1;
-    for (std::size_t d = 0; d < 3; ++d) {
-      check_at_least(fmt::format("{}.bins[{}]", key, d), f.bins[d], 1);
-      total *= f.bins[d];
-    }
+    for (std::size_t d = 0; d < 3; ++d) total *= f.bins[d];
     constexpr double kMaxBins = 4.0e6;  // running sums are (species + 6) 16-byte integers per bin
     if (total > kMaxBins)
       fail(key + ".bins", fmt::format("[{}, {}, {}]", f.bins[0], f.bins[1], f.bins[2]),
            fmt::format("{:.0f} bins in all, more than the {:.0f} allowed", total, kMaxBins));
-    if (f.lo) check(key + ".lo", *f.lo, kFinite);
-    if (f.hi) check(key + ".hi", *f.hi, kFinite);
     for (std::size_t d = 0; d < 3; ++d) {
       f.region_lo[d] = f.lo ? (*f.lo)[d] : 0.0;
       f.region_hi[d] = f.hi ? (*f.hi)[d] : spec.box[d];
@@ -454,8 +435,6 @@ void validate_fields(SimulationSpec& spec) {
         fail(fmt::format("{}.hi[{}]", key, d), show(f.region_hi[d]),
              fmt::format("must be > lo[{}] = {} and <= system.box[{}] = {}", d, f.region_lo[d], d, spec.box[d]));
     }
-    check_at_least(key + ".every", f.every, 1);
-    check_at_least(key + ".blocks", f.blocks, 2);
     if (!f.species.empty() && !f.exclude.empty())
       fail(key + ".exclude", show(f.exclude), fmt::format("not allowed together with {}.species (name the species binned, or those left out)", key));
     const bool by_name = !f.species.empty();
@@ -595,16 +574,10 @@ void validate_topology(SimulationSpec& spec) {
     for (std::size_t prev = 0; prev < k; ++prev)
       if (spec.bond_types[prev].name == b.name)
         fail(key + ".name", show(b.name), fmt::format("duplicate bond type name (also bond_type[{}].name)", prev));
-    if (b.style != BondStyleSpec::Wlc) check(key + ".k", b.k, kNonNegative);
-    if (b.style == BondStyleSpec::Harmonic) {
-      check(key + ".r0", b.r0, kNonNegative);
-      if (b.r0 >= reach)
-        fail(key + ".r0", show(b.r0), fmt::format("must be shorter than bonds.reach = {} (the reach of the ghost "
-                                                  "layer that holds bonded partners)", reach));
-    } else {
-      check(key + ".rmax", b.rmax, kPositive);
-    }
-    if (b.style == BondStyleSpec::Wlc) check(key + ".persistence", b.persistence, kPositive);
+    bond_type_keys().check(key, b);  // the keys of its style
+    if (b.style == BondStyleSpec::Harmonic && b.r0 >= reach)
+      fail(key + ".r0", show(b.r0), fmt::format("must be shorter than bonds.reach = {} (the reach of the ghost "
+                                                "layer that holds bonded partners)", reach));
   }
   for (std::size_t k = 0; k < spec.angle_types.size(); ++k) {
     AngleTypeSpec& a = spec.angle_types[k];
@@ -613,8 +586,7 @@ void validate_topology(SimulationSpec& spec) {
     for (std::size_t prev = 0; prev < k; ++prev)
       if (spec.angle_types[prev].name == a.name)
         fail(key + ".name", show(a.name), fmt::format("duplicate angle type name (also angle_type[{}].name)", prev));
-    check(key + ".k", a.k, kNonNegative);
-    check(key + ".theta0", a.theta0_deg, Range{0.0, 180.0, true, true});
+    angle_type_keys().check(key, a);
   }
   const double volume = spec.box[0] * spec.box[1] * spec.box[2];
   for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
@@ -636,12 +608,11 @@ void validate_topology(SimulationSpec& spec) {
     build_molecule(spec, k, m);
     const BondTypeSpec& bt = spec.bond_types[static_cast<std::size_t>(m.bond_type_index)];
     const double limit = bt.style == BondStyleSpec::Harmonic ? reach : std::min(reach, bt.rmax);
-    check(key + ".bond_length", m.bond_length, kPositive);
+    molecule_keys().check(key, m);
     if (m.bond_length >= limit)
       fail(key + ".bond_length", show(m.bond_length),
            fmt::format("must be shorter than {} (bonds.reach{})", limit,
                        bt.style == BondStyleSpec::Harmonic ? "" : " and the bond type's rmax"));
-    check(key + ".density", m.density, kPositive);
     if (m.density) {
       const double n = std::round(*m.density * volume / static_cast<double>(m.beads.size()));
       if (n > 1.0e9) fail(key + ".density", show(*m.density), "gives more than 1e9 molecules");
@@ -736,7 +707,6 @@ void validate_engine_limits(SimulationSpec& spec) {
 // [[solid]] blocks and [walls]: shapes, their species, the box faces they close, and the fluid they leave.
 void validate_shape(const std::string& key, const ShapeSpec& sh, const SimulationSpec& spec, double depth) {
   auto nonzero = [&](const std::string& k, const std::array<double, 3>& v) {
-    check(k, v, kFinite);
     if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(k, "[0, 0, 0]", "must not be the zero vector");
   };
   // A solid thinner than the interaction range lets the fluid on either side interact through it.
@@ -745,9 +715,9 @@ void validate_shape(const std::string& key, const ShapeSpec& sh, const Simulatio
       fail(k, show(thickness), fmt::format("gives a solid {} thick, thinner than walls.depth = {} (the largest "
                                            "cutoff): fluid would interact through it", thickness, depth));
   };
+  shape_keys().check(key, sh);  // the ranges of the keys the shape reads
   switch (sh.kind) {
     case ShapeKind::Plane:
-      check(key + ".point", sh.point, kFinite);
       nonzero(key + ".normal", sh.normal);
       // A half space cannot be periodic: along a periodic axis its far side would meet the fluid.
       for (std::size_t d = 0; d < 3; ++d)
@@ -757,19 +727,13 @@ void validate_shape(const std::string& key, const ShapeSpec& sh, const Simulatio
                            "(system.periodic), or use shape = \"box\" for a slab", "xyz"[d]));
       break;
     case ShapeKind::Cylinder:
-      check(key + ".center", sh.center, kFinite);
       nonzero(key + ".direction", sh.direction);
-      check(key + ".radius", sh.radius, kPositive);
       thick_enough(key + ".radius", 2 * sh.radius);
       break;
     case ShapeKind::Sphere:
-      check(key + ".center", sh.center, kFinite);
-      check(key + ".radius", sh.radius, kPositive);
       thick_enough(key + ".radius", 2 * sh.radius);
       break;
     case ShapeKind::Box:
-      check(key + ".lo", sh.lo, kFinite);
-      check(key + ".hi", sh.hi, kFinite);
       for (std::size_t d = 0; d < 3; ++d) {
         if (!(sh.hi[d] > sh.lo[d]))
           fail(fmt::format("{}.hi[{}]", key, d), show(sh.hi[d]), fmt::format("must exceed {}.lo[{}] = {}", key, d, sh.lo[d]));
@@ -778,9 +742,6 @@ void validate_shape(const std::string& key, const ShapeSpec& sh, const Simulatio
       }
       break;
     case ShapeKind::Pillars: {
-      check(key + ".point", sh.point, kFinite);
-      check(key + ".spacing", sh.spacing, kPositive);
-      check(key + ".radius", sh.radius, kPositive);
       thick_enough(key + ".radius", 2 * sh.radius);
       if (sh.spacing <= 2 * sh.radius)
         fail(key + ".spacing", show(sh.spacing), fmt::format("must exceed the pillar diameter 2 x {}.radius = {}", key, 2 * sh.radius));
@@ -800,7 +761,6 @@ void validate_shape(const std::string& key, const ShapeSpec& sh, const Simulatio
       break;
     }
     case ShapeKind::Image: {
-      check(key + ".voxel_size", sh.voxel_size, kPositive);
       std::error_code ec;
       if (!std::filesystem::is_regular_file(sh.file, ec)) fail(key + ".file", show(sh.file), "no such file");
       break;
@@ -875,7 +835,7 @@ void validate_walls(SimulationSpec& spec) {
     if (!spec.species[static_cast<std::size_t>(s.species_index)].frozen)
       fail(key + ".species", show(s.species),
            fmt::format("must be a frozen species (set frozen = true in species[{}])", s.species_index));
-    check(key + ".velocity", s.velocity, kFinite);
+    solid_keys().check(key, s);
     validate_shape(key, s.shape, spec, w.depth);
     // A moving wall keeps its shape only if it slides along itself: planes moving in their own plane.
     const auto& v = s.velocity;

@@ -154,6 +154,8 @@ TEST(Cli, CheckAcceptsEveryExample) {
     const CliResult r = mesodpd(dir, "check '" + entry.path().string() + "'");
     EXPECT_EQ(r.code, 0) << entry.path() << ": " << r.err;
     EXPECT_NE(r.out.find("valid"), std::string::npos) << r.out;
+    // The settings the file changes, from the declarations: every example sets the box.
+    EXPECT_NE(r.out.find("\nsettings (other than the defaults):\n  system: box = ["), std::string::npos) << r.out;
     EXPECT_EQ(r.err, "");
     ++checked;
   }

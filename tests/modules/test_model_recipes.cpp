@@ -126,6 +126,22 @@ TEST(ModelRecipes, AModelSectionIsReadCheckedAndDocumentedLikeTheSchemasOwn) {
   EXPECT_TRUE(documented);
 }
 
+// `mesodpd check` lists the settings from the declarations: a key a model declares appears there with no
+// edit to the summary, as do the schema's own tables (with units where declared); a section the file
+// leaves out does not.
+TEST(ModelRecipes, ADeclaredKeyAppearsInTheCheckSummary) {
+  ASSERT_TRUE(kRegistered);
+  const SimulationSpec spec =
+      parse_config(fluid(6, 4.5, "[test_rescale]\nkT = 1.5\ntau = 0.4\n[analysis.test_moments]\n"), "recipe.toml");
+  const std::string summary = declared_values_summary(spec);
+  EXPECT_NE(summary.find("\n  test_rescale: kT = 1.5, tau = 0.4\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n  analysis.test_moments: defaults\n"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("test_late"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n  system: box = [6, 6, 6] r_c, seed = 7\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n  species[0]: name = \"A\", density = 3, count = 648\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n  run: steps = 300\n"), std::string::npos) << summary;
+}
+
 std::string summary_line(const std::string& summary) {
   std::istringstream in(summary);
   for (std::string line; std::getline(in, line);)
