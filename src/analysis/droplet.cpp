@@ -1,5 +1,6 @@
 // A droplet in its vapour: centre, radial profile, equimolar radius, inside and outside pressure.
 #include "analysis/droplet.hpp"
+#include "parallel/comm.hpp"
 
 #include <fmt/format.h>
 
@@ -236,6 +237,23 @@ void DropletAnalysis::load(ByteReader& r, const std::string& context) {
                                   "(analysis.droplet.bin_width or the box changed)",
                                   context, counts.size(), counts_.size()));
   counts_ = std::move(counts);
+}
+
+DropletStage::DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
+                           LocalVirial virial, double range, const Box& box, const Comm& comm)
+    : RootAnalysisStage(std::move(out)), spec_(spec), snapshot_(snapshot), virial_(std::move(virial)) {
+  comm.on_root([&] { a_.emplace(spec_, box, range); });
+}
+
+void DropletStage::observe(const StepContext& ctx) {
+  if (!due(ctx.step)) return;
+  const ParticleData& p = snapshot_.of(ctx);  // collective
+  if (a_) a_->sample(p, ctx.species_mass, ctx.box, virial_);
+}
+
+std::string DropletStage::finish(const StepContext&) {
+  if (!a_ || a_->samples() == 0) return {};
+  return out_.files() ? a_->write(out_.dir) : a_->summary();
 }
 
 }  // namespace mesodpd

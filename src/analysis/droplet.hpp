@@ -22,6 +22,8 @@
 // The virial per particle comes from the engine (the same force-law functors as the pair loop, through
 // a callback, because analysis/ does not see the engine's law tables).
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -88,6 +90,25 @@ class DropletAnalysis {
   std::vector<std::uint64_t> counts_;                              // radial histogram, all samples
   ParticleData subset_;                                            // scratch
   std::vector<double> w_;                                          // scratch
+};
+
+class Comm;
+
+// [analysis.droplet] as an EndOfStep stage: samples the system snapshot every droplet.every steps from
+// droplet.start on (on the root) with `virial`, the run's force law on a subset of particles, and
+// `range`, the interaction range (pair cutoff plus density-kernel range), both from the engine.
+class DropletStage final : public RootAnalysisStage<DropletAnalysis> {
+ public:
+  DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, LocalVirial virial,
+               double range, const Box& box, const Comm& comm);
+  bool due(std::uint64_t step) const { return step >= spec_.start && step % spec_.every == 0; }
+  void observe(const StepContext& ctx) override;
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  const DropletSpec& spec_;
+  SystemSnapshot& snapshot_;
+  LocalVirial virial_;
 };
 
 }  // namespace mesodpd

@@ -1,5 +1,8 @@
 // Radial distribution function g(r) of a periodic orthorhombic box, and the virial EOS from it.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
+#include "mesodpd/spec.hpp"
 #include "io/byte_buffer.hpp"
 #include <array>
 #include <cstddef>
@@ -61,5 +64,20 @@ class RadialDistribution {
 // Throws std::invalid_argument if r and g differ in length.
 double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<double>& g, double dr,
                                 double rho, double kT, double a, double rc);
+
+// [analysis.rdf] as an EndOfStep stage: samples the system snapshot every rdf.every steps from
+// rdf.start on (the root holds the histogram); rdf.csv at the end; the histogram in its checkpoint
+// section.
+class RdfStage final : public RootAnalysisStage<RadialDistribution> {
+ public:
+  RdfStage(const RdfSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm);
+  bool due(std::uint64_t step) const { return step >= spec_.start && step % spec_.every == 0; }
+  void observe(const StepContext& ctx) override;
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  const RdfSpec& spec_;
+  SystemSnapshot& snapshot_;
+};
 
 }  // namespace mesodpd
