@@ -241,14 +241,12 @@ void DropletAnalysis::load(ByteReader& r, const std::string& context) {
 
 DropletStage::DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
                            LocalVirial virial, double range, const Box& box, const Comm& comm)
-    : RootAnalysisStage(std::move(out)), spec_(spec), snapshot_(snapshot), virial_(std::move(virial)) {
-  comm.on_root([&] { a_.emplace(spec_, box, range); });
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.start, spec.every), virial_(std::move(virial)) {
+  comm.on_root([&] { a_.emplace(spec, box, range); });
 }
 
-void DropletStage::observe(const StepContext& ctx) {
-  if (!due(ctx.step)) return;
-  const ParticleData& p = snapshot_.of(ctx);  // collective
-  if (a_) a_->sample(p, ctx.species_mass, ctx.box, virial_);
+void DropletStage::sample(const StepContext& ctx, const ParticleData& all) {
+  a_->sample(all, ctx.species_mass, ctx.box, virial_);
 }
 
 std::string DropletStage::finish(const StepContext&) {

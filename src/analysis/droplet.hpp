@@ -97,17 +97,14 @@ class Comm;
 // [analysis.droplet] as an EndOfStep stage: samples the system snapshot every droplet.every steps from
 // droplet.start on (on the root) with `virial`, the run's force law on a subset of particles, and
 // `range`, the interaction range (pair cutoff plus density-kernel range), both from the engine.
-class DropletStage final : public RootAnalysisStage<DropletAnalysis> {
+class DropletStage final : public SnapshotAnalysisStage<DropletAnalysis> {
  public:
   DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, LocalVirial virial,
                double range, const Box& box, const Comm& comm);
-  bool due(std::uint64_t step) const { return step >= spec_.start && step % spec_.every == 0; }
-  void observe(const StepContext& ctx) override;
   std::string finish(const StepContext& ctx) override;
 
  private:
-  const DropletSpec& spec_;
-  SystemSnapshot& snapshot_;
+  void sample(const StepContext& ctx, const ParticleData& all) override;
   LocalVirial virial_;
 };
 

@@ -189,14 +189,11 @@ void MeanSquaredDisplacement::load(ByteReader& r, const std::string& context) {
 }
 
 MsdStage::MsdStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm)
-    : RootAnalysisStage(std::move(out)), spec_(spec), snapshot_(snapshot) {
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.msd.start, spec.msd.every), dt_(spec.dt) {
   if (comm.root()) a_.emplace();
 }
 
-void MsdStage::observe(const StepContext& ctx) {
-  if (!due(ctx.step)) return;
-  const ParticleData& p = snapshot_.of(ctx);  // collective
-  if (!a_) return;
+void MsdStage::sample(const StepContext& ctx, const ParticleData& p) {
   const std::size_t n = p.n_local;
   xu_.resize(n);
   yu_.resize(n);
@@ -207,7 +204,7 @@ void MsdStage::observe(const StepContext& ctx) {
     yu_[i] = p.y[i] + p.iy[i] * b.len.y;
     zu_[i] = p.z[i] + p.iz[i] * b.len.z;
   }
-  a_->sample(ctx.step, static_cast<double>(ctx.step) * spec_.dt, p.id.data(), xu_.data(), yu_.data(), zu_.data(), n);
+  a_->sample(ctx.step, static_cast<double>(ctx.step) * dt_, p.id.data(), xu_.data(), yu_.data(), zu_.data(), n);
 }
 
 std::string MsdStage::finish(const StepContext&) {

@@ -65,16 +65,14 @@ class MeanSquaredDisplacement {
 
 // [analysis.msd] as an EndOfStep stage: samples the unwrapped positions of the system snapshot every
 // msd.every steps from msd.start on (on the root); msd.csv and D at the end.
-class MsdStage final : public RootAnalysisStage<MeanSquaredDisplacement> {
+class MsdStage final : public SnapshotAnalysisStage<MeanSquaredDisplacement> {
  public:
   MsdStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm);
-  bool due(std::uint64_t step) const { return step >= spec_.msd.start && step % spec_.msd.every == 0; }
-  void observe(const StepContext& ctx) override;
   std::string finish(const StepContext& ctx) override;
 
  private:
-  const SimulationSpec& spec_;
-  SystemSnapshot& snapshot_;
+  void sample(const StepContext& ctx, const ParticleData& all) override;
+  double dt_;
   std::vector<double> xu_, yu_, zu_;  // scratch: unwrapped positions of one sample
 };
 

@@ -199,16 +199,13 @@ void RadialDistribution::load(ByteReader& r, const std::string& context) {
 }
 
 RdfStage::RdfStage(const RdfSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm)
-    : RootAnalysisStage(std::move(out)), spec_(spec), snapshot_(snapshot) {
-  if (comm.root()) a_.emplace(static_cast<std::size_t>(spec_.bins), spec_.rmax);
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.start, spec.every) {
+  if (comm.root()) a_.emplace(static_cast<std::size_t>(spec.bins), spec.rmax);
 }
 
-void RdfStage::observe(const StepContext& ctx) {
-  if (!due(ctx.step)) return;
-  const ParticleData& p = snapshot_.of(ctx);  // collective
-  if (!a_) return;
+void RdfStage::sample(const StepContext& ctx, const ParticleData& p) {
   a_->sample(p.x.data(), p.y.data(), p.z.data(), p.n_local, {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z},
-               ctx.box.periodic);
+             ctx.box.periodic);
 }
 
 std::string RdfStage::finish(const StepContext&) {

@@ -68,16 +68,13 @@ double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<
 // [analysis.rdf] as an EndOfStep stage: samples the system snapshot every rdf.every steps from
 // rdf.start on (the root holds the histogram); rdf.csv at the end; the histogram in its checkpoint
 // section.
-class RdfStage final : public RootAnalysisStage<RadialDistribution> {
+class RdfStage final : public SnapshotAnalysisStage<RadialDistribution> {
  public:
   RdfStage(const RdfSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm);
-  bool due(std::uint64_t step) const { return step >= spec_.start && step % spec_.every == 0; }
-  void observe(const StepContext& ctx) override;
   std::string finish(const StepContext& ctx) override;
 
  private:
-  const RdfSpec& spec_;
-  SystemSnapshot& snapshot_;
+  void sample(const StepContext& ctx, const ParticleData& all) override;
 };
 
 }  // namespace mesodpd

@@ -240,15 +240,13 @@ void StressProfile::load(ByteReader& r, const std::string& context) {
 
 StressProfileStage::StressProfileStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
                                        VirialTermsOf virial_terms, const Box& box, const Comm& comm)
-    : RootAnalysisStage(std::move(out)), spec_(spec), snapshot_(snapshot), virial_terms_(std::move(virial_terms)) {
-  for (const auto& sp : spec_.species) frozen_.push_back(sp.frozen ? 1 : 0);
-  comm.on_root([&] { a_.emplace(spec_.stress_profile, box); });
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.stress_profile.start, spec.stress_profile.every),
+      virial_terms_(std::move(virial_terms)) {
+  for (const auto& sp : spec.species) frozen_.push_back(sp.frozen ? 1 : 0);
+  comm.on_root([&] { a_.emplace(spec.stress_profile, box); });
 }
 
-void StressProfileStage::observe(const StepContext& ctx) {
-  if (!due(ctx.step)) return;
-  const ParticleData& p = snapshot_.of(ctx);  // collective
-  if (!a_) return;
+void StressProfileStage::sample(const StepContext& ctx, const ParticleData& p) {
   terms_.clear();
   virial_terms_(p, ctx.box, terms_);
   a_->sample(p, ctx.species_mass, frozen_, terms_);

@@ -106,19 +106,14 @@ using VirialTermsOf = std::function<void(const ParticleData& all, const Box& box
 
 // [analysis.stress_profile] as an EndOfStep stage: samples the system snapshot every stress_profile.every
 // steps from stress_profile.start on (on the root).
-class StressProfileStage final : public RootAnalysisStage<StressProfile> {
+class StressProfileStage final : public SnapshotAnalysisStage<StressProfile> {
  public:
   StressProfileStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
                      VirialTermsOf virial_terms, const Box& box, const Comm& comm);
-  bool due(std::uint64_t step) const {
-    return step >= spec_.stress_profile.start && step % spec_.stress_profile.every == 0;
-  }
-  void observe(const StepContext& ctx) override;
   std::string finish(const StepContext& ctx) override;
 
  private:
-  const SimulationSpec& spec_;
-  SystemSnapshot& snapshot_;
+  void sample(const StepContext& ctx, const ParticleData& all) override;
   VirialTermsOf virial_terms_;
   VirialTerms terms_;                 // scratch: one sample
   std::vector<std::uint8_t> frozen_;  // by species

@@ -4,6 +4,9 @@
 // collective call, made on every rank alike since readers are due by step alone); the others reuse it.
 // As an EndOfStep stage before the readers it only forgets the last step's snapshot.
 #pragma once
+#include <cstdint>
+
+#include "analysis/analysis_stage.hpp"
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
 #include "parallel/halo.hpp"
@@ -23,6 +26,29 @@ class SystemSnapshot final : public Stage {
  private:
   ParticleData all_;  // reused between samples
   bool taken_ = false;
+};
+
+// An analysis of the whole system, held by the root, that samples the snapshot every `every` steps from
+// `start` on: RDF, MSD, droplet, stress profile.
+template <class A>
+class SnapshotAnalysisStage : public RootAnalysisStage<A> {
+ public:
+  bool due(std::uint64_t step) const { return step >= start_ && step % every_ == 0; }
+  void observe(const StepContext& ctx) final {
+    if (!due(ctx.step)) return;
+    const ParticleData& all = snapshot_.of(ctx);  // collective
+    if (this->a_) sample(ctx, all);
+  }
+
+ protected:
+  SnapshotAnalysisStage(AnalysisOutput out, SystemSnapshot& snapshot, std::uint64_t start, std::uint64_t every)
+      : RootAnalysisStage<A>(std::move(out)), snapshot_(snapshot), start_(start), every_(every) {}
+  // One sample of `all` (the root's snapshot) into this->a_.
+  virtual void sample(const StepContext& ctx, const ParticleData& all) = 0;
+
+ private:
+  SystemSnapshot& snapshot_;
+  std::uint64_t start_, every_;
 };
 
 }  // namespace mesodpd
