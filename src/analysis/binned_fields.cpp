@@ -593,4 +593,18 @@ void BinnedFields::load(ByteReader& r, const std::string& context) {
   if (blocked_) blocks_.load(r, context);
 }
 
+void BinnedFieldsStage::observe(const StepContext& ctx) {
+  const FieldsSpec& f = grid_.spec();
+  const std::uint64_t step = ctx.step;
+  if (step >= f.start && step % f.every == 0) grid_.sample(ctx.particles, ctx.comm, step);
+  // The files so far, for long runs (the averages go on; the end of the run writes them again).
+  if (out_.files() && f.write_every > 0 && step % f.write_every == 0 && step > f.start && grid_.samples() > 0)
+    ctx.comm.on_root([&] { grid_.write(out_.dir); });
+}
+
+std::string BinnedFieldsStage::finish(const StepContext&) {
+  if (grid_.samples() == 0) return fmt::format("{}: no samples (run longer than analysis.fields.start)\n", grid_.spec().name);
+  return out_.files() ? grid_.write(out_.dir) : std::string();
+}
+
 }  // namespace mesodpd

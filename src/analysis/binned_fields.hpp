@@ -19,6 +19,7 @@
 // velocity is the bin's mean over the whole run, the steady streaming velocity of a steady flow; a
 // drifting system (a slab that wanders) should be centred (centre_axis) or it reads its drift as heat.
 #pragma once
+#include "analysis/analysis_stage.hpp"
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -115,6 +116,22 @@ class BinnedFields {
   BlockRows blocks_;               // per-block 1-D profiles of the selected species (fit = "slab")
   bool blocked_ = false;
   std::uint64_t samples_ = 0, first_step_ = 0, last_step_ = 0;
+};
+
+// One [analysis.fields] grid as an EndOfStep stage: samples every `every` steps from `start` on (every
+// rank holds the same totals), writes its files every `write_every` steps and at the end.
+class BinnedFieldsStage final : public AnalysisStage {
+ public:
+  BinnedFieldsStage(BinnedFields grid, AnalysisOutput out) : grid_(std::move(grid)), out_(std::move(out)) {}
+  void observe(const StepContext& ctx) override;
+  void save(ByteWriter& w) const override { grid_.save(w); }
+  void load(ByteReader& r, const std::string& context) override { grid_.load(r, context); }
+  std::string finish(const StepContext& ctx) override;
+  const BinnedFields& grid() const { return grid_; }
+
+ private:
+  BinnedFields grid_;
+  AnalysisOutput out_;
 };
 
 }  // namespace mesodpd

@@ -1,5 +1,6 @@
 // A droplet in its vapour: centre, radial profile, equimolar radius, inside and outside pressure.
 #include "analysis/droplet.hpp"
+#include "parallel/comm.hpp"
 
 #include <fmt/format.h>
 
@@ -236,6 +237,21 @@ void DropletAnalysis::load(ByteReader& r, const std::string& context) {
                                   "(analysis.droplet.bin_width or the box changed)",
                                   context, counts.size(), counts_.size()));
   counts_ = std::move(counts);
+}
+
+DropletStage::DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
+                           LocalVirial virial, double range, const Box& box, const Comm& comm)
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.start, spec.every), virial_(std::move(virial)) {
+  comm.on_root([&] { a_.emplace(spec, box, range); });
+}
+
+void DropletStage::sample(const StepContext& ctx, const ParticleData& all) {
+  a_->sample(all, ctx.species_mass, ctx.box, virial_);
+}
+
+std::string DropletStage::finish(const StepContext&) {
+  if (!a_ || a_->samples() == 0) return {};
+  return out_.files() ? a_->write(out_.dir) : a_->summary();
 }
 
 }  // namespace mesodpd

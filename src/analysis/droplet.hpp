@@ -22,6 +22,8 @@
 // The virial per particle comes from the engine (the same force-law functors as the pair loop, through
 // a callback, because analysis/ does not see the engine's law tables).
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -88,6 +90,22 @@ class DropletAnalysis {
   std::vector<std::uint64_t> counts_;                              // radial histogram, all samples
   ParticleData subset_;                                            // scratch
   std::vector<double> w_;                                          // scratch
+};
+
+class Comm;
+
+// [analysis.droplet] as an EndOfStep stage: samples the system snapshot every droplet.every steps from
+// droplet.start on (on the root) with `virial`, the run's force law on a subset of particles, and
+// `range`, the interaction range (pair cutoff plus density-kernel range), both from the engine.
+class DropletStage final : public SnapshotAnalysisStage<DropletAnalysis> {
+ public:
+  DropletStage(const DropletSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, LocalVirial virial,
+               double range, const Box& box, const Comm& comm);
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  void sample(const StepContext& ctx, const ParticleData& all) override;
+  LocalVirial virial_;
 };
 
 }  // namespace mesodpd

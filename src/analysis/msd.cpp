@@ -1,5 +1,6 @@
 // Mean squared displacement from unwrapped positions, and the self-diffusion coefficient from it.
 #include "analysis/msd.hpp"
+#include "parallel/comm.hpp"
 #include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -185,6 +186,31 @@ void MeanSquaredDisplacement::load(ByteReader& r, const std::string& context) {
   msd_count_ = r.get_vector<std::size_t>();
   if (msd_sum_.size() != lag_time_.size() || msd_count_.size() != lag_time_.size())
     throw ConfigError(fmt::format("{}: inconsistent MSD state", context));
+}
+
+MsdStage::MsdStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm)
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.msd.start, spec.msd.every), dt_(spec.dt) {
+  if (comm.root()) a_.emplace();
+}
+
+void MsdStage::sample(const StepContext& ctx, const ParticleData& p) {
+  const std::size_t n = p.n_local;
+  xu_.resize(n);
+  yu_.resize(n);
+  zu_.resize(n);
+  const Box& b = ctx.box;
+  for (std::size_t i = 0; i < n; ++i) {
+    xu_[i] = p.x[i] + p.ix[i] * b.len.x;
+    yu_[i] = p.y[i] + p.iy[i] * b.len.y;
+    zu_[i] = p.z[i] + p.iz[i] * b.len.z;
+  }
+  a_->sample(ctx.step, static_cast<double>(ctx.step) * dt_, p.id.data(), xu_.data(), yu_.data(), zu_.data(), n);
+}
+
+std::string MsdStage::finish(const StepContext&) {
+  if (!a_ || a_->size() <= 2) return {};
+  if (out_.files()) a_->write_csv((out_ / "msd.csv").string());
+  return fmt::format("self-diffusion coefficient D = {:.5f}\n", a_->diffusion_coefficient());
 }
 
 }  // namespace mesodpd

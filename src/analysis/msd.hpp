@@ -1,5 +1,8 @@
 // Mean squared displacement from unwrapped positions, and the self-diffusion coefficient from it.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
+#include "mesodpd/spec.hpp"
 #include "io/byte_buffer.hpp"
 #include <cstddef>
 #include <cstdint>
@@ -58,6 +61,19 @@ class MeanSquaredDisplacement {
   std::vector<double> msd_sum_;
   std::vector<std::size_t> msd_count_;
   std::vector<std::size_t> slot_scratch_;
+};
+
+// [analysis.msd] as an EndOfStep stage: samples the unwrapped positions of the system snapshot every
+// msd.every steps from msd.start on (on the root); msd.csv and D at the end.
+class MsdStage final : public SnapshotAnalysisStage<MeanSquaredDisplacement> {
+ public:
+  MsdStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm);
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  void sample(const StepContext& ctx, const ParticleData& all) override;
+  double dt_;
+  std::vector<double> xu_, yu_, zu_;  // scratch: unwrapped positions of one sample
 };
 
 }  // namespace mesodpd

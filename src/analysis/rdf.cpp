@@ -1,5 +1,6 @@
 // Radial distribution function g(r) of an orthorhombic box (periodic or bounded per axis), and the virial EOS from it.
 #include "analysis/rdf.hpp"
+#include "parallel/comm.hpp"
 #include "io/atomic_file.hpp"
 
 #include "physics/dpd_pair.hpp"
@@ -195,6 +196,21 @@ void RadialDistribution::load(ByteReader& r, const std::string& context) {
   ideal_pair_density_sum_ = r.get<double>();
   samples_ = r.get<std::uint64_t>();
   if (counts_.size() != bins_) throw ConfigError(fmt::format("{}: inconsistent RDF state", context));
+}
+
+RdfStage::RdfStage(const RdfSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm)
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.start, spec.every) {
+  if (comm.root()) a_.emplace(static_cast<std::size_t>(spec.bins), spec.rmax);
+}
+
+void RdfStage::sample(const StepContext& ctx, const ParticleData& p) {
+  a_->sample(p.x.data(), p.y.data(), p.z.data(), p.n_local, {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z},
+             ctx.box.periodic);
+}
+
+std::string RdfStage::finish(const StepContext&) {
+  if (out_.files() && a_ && a_->samples() > 0) a_->write_csv((out_ / "rdf.csv").string());
+  return {};
 }
 
 }  // namespace mesodpd

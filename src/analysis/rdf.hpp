@@ -1,5 +1,8 @@
 // Radial distribution function g(r) of a periodic orthorhombic box, and the virial EOS from it.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
+#include "mesodpd/spec.hpp"
 #include "io/byte_buffer.hpp"
 #include <array>
 #include <cstddef>
@@ -61,5 +64,17 @@ class RadialDistribution {
 // Throws std::invalid_argument if r and g differ in length.
 double virial_pressure_from_rdf(const std::vector<double>& r, const std::vector<double>& g, double dr,
                                 double rho, double kT, double a, double rc);
+
+// [analysis.rdf] as an EndOfStep stage: samples the system snapshot every rdf.every steps from
+// rdf.start on (the root holds the histogram); rdf.csv at the end; the histogram in its checkpoint
+// section.
+class RdfStage final : public SnapshotAnalysisStage<RadialDistribution> {
+ public:
+  RdfStage(const RdfSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot, const Comm& comm);
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  void sample(const StepContext& ctx, const ParticleData& all) override;
+};
 
 }  // namespace mesodpd

@@ -1,5 +1,6 @@
 // The pressure tensor in slabs along an axis: kinetic and configurational parts, p_N, p_T, tension.
 #include "analysis/stress_profile.hpp"
+#include "parallel/comm.hpp"
 
 #include <fmt/format.h>
 
@@ -235,6 +236,25 @@ void StressProfile::load(ByteReader& r, const std::string& context) {
   sums_ = std::move(sums);
   gamma_ = r.get_vector<double>();
   blocks_.load(r, context);
+}
+
+StressProfileStage::StressProfileStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
+                                       VirialTermsOf virial_terms, const Box& box, const Comm& comm)
+    : SnapshotAnalysisStage(std::move(out), snapshot, spec.stress_profile.start, spec.stress_profile.every),
+      virial_terms_(std::move(virial_terms)) {
+  for (const auto& sp : spec.species) frozen_.push_back(sp.frozen ? 1 : 0);
+  comm.on_root([&] { a_.emplace(spec.stress_profile, box); });
+}
+
+void StressProfileStage::sample(const StepContext& ctx, const ParticleData& p) {
+  terms_.clear();
+  virial_terms_(p, ctx.box, terms_);
+  a_->sample(p, ctx.species_mass, frozen_, terms_);
+}
+
+std::string StressProfileStage::finish(const StepContext&) {
+  if (!a_ || a_->samples() == 0) return {};
+  return out_.files() ? a_->write(out_.dir) : a_->summary();
 }
 
 }  // namespace mesodpd

@@ -27,6 +27,9 @@
 // For a single membrane in a periodic box gamma is its tension; a slab of liquid (two interfaces) has
 // gamma = 2 sigma.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "analysis/system_snapshot.hpp"
+#include <functional>
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -93,6 +96,27 @@ class StressProfile {
   std::vector<double> gamma_;  // tension per sample
   BlockRows blocks_;           // (p_N - p_T) per bin, per block
   std::vector<double> row_, aniso_;  // scratch: one sample
+};
+
+class Comm;
+
+// The virial terms (conservative pair forces, bonds, angles) of the whole system handed to it, appended
+// to `terms` (set by the engine: the run's laws by the reference loop).
+using VirialTermsOf = std::function<void(const ParticleData& all, const Box& box, VirialTerms& terms)>;
+
+// [analysis.stress_profile] as an EndOfStep stage: samples the system snapshot every stress_profile.every
+// steps from stress_profile.start on (on the root).
+class StressProfileStage final : public SnapshotAnalysisStage<StressProfile> {
+ public:
+  StressProfileStage(const SimulationSpec& spec, AnalysisOutput out, SystemSnapshot& snapshot,
+                     VirialTermsOf virial_terms, const Box& box, const Comm& comm);
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  void sample(const StepContext& ctx, const ParticleData& all) override;
+  VirialTermsOf virial_terms_;
+  VirialTerms terms_;                 // scratch: one sample
+  std::vector<std::uint8_t> frozen_;  // by species
 };
 
 }  // namespace mesodpd

@@ -1,5 +1,8 @@
 // Surface tension of a planar slab from the pressure tensor, with a block error bar.
 #include "analysis/surface_tension.hpp"
+#include "analysis/thermo_output.hpp"
+#include "parallel/comm.hpp"
+#include <fmt/format.h>
 
 #include <cmath>
 #include <limits>
@@ -66,6 +69,25 @@ void SurfaceTension::write_json(const std::string& path) const {
   j["axis"] = std::string(1, "xyz"[axis_]);
   j["length"] = json_number(length_);
   write_file_atomically(path, [&](std::ostream& os) { os << j.dump(2) << '\n'; });
+}
+
+SurfaceTensionStage::SurfaceTensionStage(const SurfaceTensionSpec& spec, AnalysisOutput out, const ThermoOutput& thermo,
+                                         double normal_length, const Comm& comm)
+    : RootAnalysisStage(std::move(out)), spec_(spec), thermo_(thermo) {
+  if (comm.root()) a_.emplace(spec_.axis, normal_length, static_cast<std::size_t>(spec_.blocks));
+}
+
+void SurfaceTensionStage::observe(const StepContext& ctx) {
+  if (!a_ || ctx.step < spec_.start) return;
+  if (const ThermoState* t = thermo_.row(ctx.step)) a_->add(t->p_tensor);
+}
+
+std::string SurfaceTensionStage::finish(const StepContext&) {
+  if (!a_ || a_->samples() == 0) return {};
+  if (out_.files()) a_->write_json((out_ / "surface_tension.json").string());
+  const BlockMean b = a_->result();
+  return fmt::format("surface tension sigma = {:.4f} +- {:.4f} ({} thermo rows in {} blocks, normal {})\n", b.mean,
+                     b.err, b.samples, b.blocks, "xyz"[spec_.axis]);
 }
 
 }  // namespace mesodpd

@@ -4,6 +4,8 @@
 // with n the normal axis and L_n the box length along it; the mean over thermo rows carries a block
 // error bar (issue 11 item 3). A homogeneous fluid gives sigma = 0 within the error.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "mesodpd/spec.hpp"
 #include <array>
 #include <cstdint>
 #include <string>
@@ -48,6 +50,23 @@ class SurfaceTension {
   double length_;
   std::size_t blocks_;
   std::vector<double> anisotropy_;  // one per thermo row sampled
+};
+
+class Comm;
+class ThermoOutput;
+
+// [analysis.surface_tension] as an EndOfStep stage after the thermo rows: adds the pressure tensor of
+// each thermo row from surface_tension.start on (on the root); surface_tension.json and sigma at the end.
+class SurfaceTensionStage final : public RootAnalysisStage<SurfaceTension> {
+ public:
+  SurfaceTensionStage(const SurfaceTensionSpec& spec, AnalysisOutput out, const ThermoOutput& thermo,
+                      double normal_length, const Comm& comm);
+  void observe(const StepContext& ctx) override;
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  const SurfaceTensionSpec& spec_;
+  const ThermoOutput& thermo_;
 };
 
 }  // namespace mesodpd

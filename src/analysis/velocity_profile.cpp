@@ -1,5 +1,11 @@
 // Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
 #include "analysis/velocity_profile.hpp"
+#include <nlohmann/json.hpp>
+#include <span>
+#include "analysis/kinetic_theory.hpp"
+#include "analysis/svg_plot.hpp"
+#include "io/json_number.hpp"
+#include "parallel/comm.hpp"
 #include "io/atomic_file.hpp"
 
 #include <fmt/format.h>
@@ -247,6 +253,88 @@ void PoiseuilleProfile::load(ByteReader& r, const std::string& context) {
       rows[r2 * 2 * bins_ + bins_ + b] = count[r2 * bins_ + b];
     }
   blocks_rows_.restore(block_size, full, in_current, std::move(rows), context);
+}
+
+VelocityProfileStage::VelocityProfileStage(const SimulationSpec& spec, AnalysisOutput out, const StepContext& start)
+    : RootAnalysisStage(std::move(out)), spec_(spec) {
+  const PoiseuilleSpec& q = spec_.poiseuille;
+  // The fluid's mass: integer counts per species (exact over ranks) times the species masses.
+  std::vector<std::uint64_t> count(spec_.species.size(), 0);
+  const ParticleData& own = start.particles;
+  for (std::size_t i = 0; i < own.n_local; ++i) ++count[static_cast<std::size_t>(own.species[i])];
+  start.comm.sum(std::span<std::uint64_t>(count));
+  double mass = 0;
+  for (std::size_t k = 0; k < count.size(); ++k) mass += static_cast<double>(count[k]) * spec_.species[k].mass;
+  const Box& box = start.box;
+  start.comm.on_root([&] {
+    a_.emplace(static_cast<std::size_t>(q.bins), q.flow_axis, q.gradient_axis, box.length(q.gradient_axis),
+               static_cast<std::size_t>(q.blocks), q.force, mass / box.volume());
+  });
+}
+
+void VelocityProfileStage::observe(const StepContext& ctx) {
+  if (!due(ctx.step)) return;
+  const PoiseuilleSpec& q = spec_.poiseuille;
+  // Each rank bins its own particles into integer sums; only the per-bin totals travel.
+  const ParticleData& own = ctx.particles;
+  const auto& grad = q.gradient_axis == 0 ? own.x : (q.gradient_axis == 1 ? own.y : own.z);
+  const auto& flow = q.flow_axis == 0 ? own.vx : (q.flow_axis == 1 ? own.vy : own.vz);
+  const auto bins = static_cast<std::size_t>(q.bins);
+  bins_.assign(2 * bins, 0);
+  PoiseuilleProfile::bin(grad.data(), flow.data(), own.n_local, bins, ctx.box.length(q.gradient_axis), bins_.data());
+  ctx.comm.sum(std::span<std::int64_t>(bins_));
+  if (a_) a_->add_binned(bins_.data());
+}
+
+std::string VelocityProfileStage::finish(const StepContext& ctx) {
+  if (!a_) return {};
+  const SimulationSpec& s = spec_;
+  const PoiseuilleProfile& profile = *a_;
+  const double rho = static_cast<double>(ctx.total_particles) / ctx.box.volume();
+  // Kinetic theory only where one set of pair parameters describes the fluid (kinetic_theory.hpp).
+  const KineticViscosity theory = kinetic_viscosity_of(s, rho);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double eta_theory = theory.applies ? theory.eta : nan;
+  const std::string theory_text =
+      theory.applies ? fmt::format("kinetic theory, seed 000 Eq. 16 / Table 1: {:.4f}", theory.eta)
+                     : fmt::format("no kinetic-theory value for {}", theory.why_not);
+  // One `a` for the plot's legend where all pairs share it.
+  bool one_a = true;
+  for (const PairSpec& q : s.pairs) one_a = one_a && q.a == s.pairs.front().a;
+  if (profile.samples() < 2)
+    return "reverse Poiseuille: too few profile samples for a viscosity (run longer than poiseuille.start)\n";
+  const ViscosityFit fit = profile.fit();
+  std::string summary =
+      fmt::format("reverse Poiseuille viscosity eta = {:.4f} +- {:.4f} ({})\n", fit.eta, fit.eta_err, theory_text);
+  if (!out_.files()) return summary;
+  profile.write_csv((out_ / "poiseuille_profile.csv").string());
+  write_viscosity_summary_csv((out_ / "viscosity.csv").string(), fit, eta_theory);
+  nlohmann::ordered_json summary_json;  // keys in the order written
+  summary_json["eta"] = json_number(fit.eta);
+  summary_json["eta_err"] = json_number(fit.eta_err);
+  summary_json["eta_kinetic_theory"] = json_number(eta_theory);
+  summary_json["blocks"] = fit.blocks_used;
+  summary_json["samples"] = profile.samples();
+  summary_json["density"] = json_number(rho);
+  summary_json["gamma"] = theory.applies ? json_number(theory.gamma) : nullptr;
+  summary_json["s"] = theory.applies ? json_number(theory.s) : nullptr;
+  summary_json["force"] = json_number(s.poiseuille.force);
+  write_file_atomically(out_ / "viscosity.json", [&](std::ostream& os) { os << summary_json.dump(2) << '\n'; });
+  SvgSeries data{profile.z(), profile.v_mean(), profile.v_err(), "measured", "#1f77b4", false, true};
+  SvgSeries model{profile.z(), profile.v_fit(), {}, "parabolic fit", "#d62728", true, false};
+  const char* axes = "xyz";
+  write_svg_plot((out_ / "velocity_profile.svg").string(), "Reverse Poiseuille flow: velocity profile",
+                 fmt::format("{} (gradient axis)", axes[s.poiseuille.gradient_axis]),
+                 fmt::format("mean v_{}", axes[s.poiseuille.flow_axis]), {data, model},
+                 {fmt::format("eta = {:.4f} +- {:.4f}", fit.eta, fit.eta_err),
+                  theory.applies ? fmt::format("kinetic theory (seed 000 Eq. 16): {:.4f}", theory.eta)
+                                 : fmt::format("kinetic theory: none for {}", theory.why_not),
+                  theory.applies && one_a
+                      ? fmt::format("rho = {:.3g}, a = {:.3g}, gamma = {:.3g}, s = {:.3g}, g = {:.3g}", rho,
+                                    s.pairs.front().a, theory.gamma, theory.s, s.poiseuille.force)
+                      : fmt::format("rho = {:.3g}, {} species, g = {:.3g}", rho, s.species.size(),
+                                    s.poiseuille.force)});
+  return summary;
 }
 
 }  // namespace mesodpd

@@ -1,5 +1,7 @@
 // Binned flow profile of reverse Poiseuille flow and the shear viscosity fitted to it, with block errors.
 #pragma once
+#include "analysis/analysis_stage.hpp"
+#include "mesodpd/spec.hpp"
 #include "analysis/block_rows.hpp"
 #include "io/byte_buffer.hpp"
 #include <cstddef>
@@ -90,5 +92,24 @@ class PoiseuilleProfile {
 // One-row CSV beside the profile for plots and reports: eta,eta_err,v_amplitude,blocks_used,eta_kinetic
 // (eta_kinetic is e.g. kinetic_viscosity() from analysis/kinetic_theory.hpp; NaN if unknown).
 void write_viscosity_summary_csv(const std::string& path, const ViscosityFit& fit, double eta_kinetic);
+
+// [poiseuille] profile and viscosity as an EndOfStep stage: every poiseuille.every steps after
+// poiseuille.start each rank bins its own particles into integer sums, and only the per-bin totals
+// travel (to the root, which holds the profile); at the end the viscosity fit, poiseuille_profile.csv,
+// viscosity.csv, viscosity.json and velocity_profile.svg.
+class VelocityProfileStage final : public RootAnalysisStage<PoiseuilleProfile> {
+ public:
+  // `start` is the state the run begins from (the fluid's mass is counted over ranks). Collective.
+  VelocityProfileStage(const SimulationSpec& spec, AnalysisOutput out, const StepContext& start);
+  bool due(std::uint64_t step) const {
+    return step > spec_.poiseuille.start && step % spec_.poiseuille.every == 0;
+  }
+  void observe(const StepContext& ctx) override;
+  std::string finish(const StepContext& ctx) override;
+
+ private:
+  const SimulationSpec& spec_;
+  std::vector<std::int64_t> bins_;  // one sample: fixed-point flow sums, then counts
+};
 
 }  // namespace mesodpd

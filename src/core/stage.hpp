@@ -1,4 +1,4 @@
-// Named points of a time step and the stages (external fields, walls, constraints, observers,
+// Named points of a time step and the stages (external fields, walls, constraints, analyses,
 // writers) that register at them; Simulation::step() runs each point's stages in registration order.
 #pragma once
 #include <array>
@@ -23,7 +23,7 @@ class Comm;
 //   neighbour search and ghost exchange               -> AfterNeighbors
 //   pair forces                                       -> Forces          (external fields, walls, bonds)
 //   integrator second half                            -> AfterSecondHalf (thermostats acting on velocities)
-//   health check                                      -> EndOfStep       (observers, writers, checkpoints)
+//   health check                                      -> EndOfStep       (analyses, writers, checkpoints)
 enum class StagePoint : std::uint8_t { AfterFirstHalf, AfterNeighbors, Forces, AfterSecondHalf, EndOfStep };
 inline constexpr std::size_t kStagePointCount = 5;
 
@@ -31,7 +31,7 @@ inline constexpr std::size_t kStagePointCount = 5;
 struct StepContext {
   ParticleData& particles;                 // this rank's locals in [0, n_local), then ghosts
   const Box& box;
-  const Comm& comm;                        // collective stages (observers) use it; one rank: serial
+  const Comm& comm;                        // collective stages (analyses) use it; one rank: serial
   std::uint64_t step = 0;                  // the step being completed (already incremented)
   double dt = 0.0;
   const std::vector<double>& species_mass;  // by species index

@@ -35,15 +35,15 @@ void install_walls(Installation& in) {
     in.stages.add(StagePoint::EndOfStep,
                   std::make_unique<AdaptiveLog>(spec, w, in.options.out_dir, in.restarted, comm));
   }
-  in.observers.sections.push_back({"walls",
-                                   [&w, &drag](ByteWriter& out) {
-                                     drag.save(out);
-                                     w.save(out);
-                                   },
-                                   [&w, &drag](ByteReader& r, const std::string& context) {
-                                     drag.load(r, context);
-                                     w.load(r, context);
-                                   }});
+  in.sections.push_back({"walls",
+                         [&w, &drag](ByteWriter& out) {
+                           drag.save(out);
+                           w.save(out);
+                         },
+                         [&w, &drag](ByteReader& r, const std::string& context) {
+                           drag.load(r, context);
+                           w.load(r, context);
+                         }});
   in.summaries.push_back([&drag](const StepContext& ctx) {
     const std::string text = drag.finish(ctx.comm);
     return ctx.comm.root() ? text : std::string();
@@ -62,11 +62,11 @@ void install_walls(Installation& in) {
     }
   }
   auto counts = std::make_shared<std::array<std::uint64_t, 2>>();
-  in.observers.columns.push_back({"reflections", [&w, counts](const StepContext& ctx) {
-                                    *counts = w.take_counts(ctx.comm);
-                                    return static_cast<double>((*counts)[0]);
-                                  }});
-  in.observers.columns.push_back(
+  in.thermo_columns.push_back({"reflections", [&w, counts](const StepContext& ctx) {
+                                 *counts = w.take_counts(ctx.comm);
+                                 return static_cast<double>((*counts)[0]);
+                               }});
+  in.thermo_columns.push_back(
       {"penetrations", [counts](const StepContext&) { return static_cast<double>((*counts)[1]); }});
   // Flows between walls stream: the temperature of the velocities relative to the mean velocity of bins
   // about one cutoff wide is the heat (thermo's own temperature counts the flow too). At most ~65,536
@@ -78,11 +78,11 @@ void install_walls(Installation& in) {
     bins[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(box.length(d) / bin_width));
   std::vector<std::uint8_t> frozen;
   for (const auto& s : spec.species) frozen.push_back(s.frozen ? 1 : 0);
-  in.observers.temperature_column = static_cast<int>(in.observers.columns.size());
-  in.observers.columns.push_back({"temperature_peculiar", [bins, frozen](const StepContext& ctx) {
-                                    return peculiar_temperature(ctx.particles, ctx.species_mass, ctx.box, bins,
-                                                                ctx.comm, frozen);
-                                  }});
+  in.temperature_column = static_cast<int>(in.thermo_columns.size());
+  in.thermo_columns.push_back({"temperature_peculiar", [bins, frozen](const StepContext& ctx) {
+                                 return peculiar_temperature(ctx.particles, ctx.species_mass, ctx.box, bins, ctx.comm,
+                                                             frozen);
+                               }});
 }
 
 }  // namespace mesodpd

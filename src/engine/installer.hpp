@@ -1,8 +1,9 @@
 // How a model joins a simulation. Simulation's constructor makes the particles, the pair forces and the
 // integrator, then hands one Installation to each model's installer (the list in engine/installers.cpp,
-// then the models registered at run time), in that order. Through it a model adds its stages at named points of the step, its thermo columns, its
-// checkpoint section, its end-of-run summary and the objects other models may look up by type. Stages
-// at one point run in registration order, so the list's order is the order of the step's stages.
+// with the models registered at run time among them), in that order. Through it a model adds its stages
+// at named points of the step, its thermo columns, its checkpoint sections, its end-of-run summary and
+// the objects other models may look up by type. Stages at one point run in registration order, so the
+// list's order is the order of the step's stages.
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -13,7 +14,9 @@
 #include <vector>
 
 #include "analysis/observers.hpp"
+#include "analysis/thermo_output.hpp"
 #include "core/stage.hpp"
+#include "io/byte_buffer.hpp"
 #include "mesodpd/model_section.hpp"
 #include "mesodpd/spec.hpp"
 
@@ -22,7 +25,7 @@ namespace mesodpd {
 class Simulation;
 struct RunOptions;
 
-// Objects shared between models, one per type (the walls, the observers).
+// Objects shared between models, one per type (the walls, the thermo rows, the system snapshot).
 class Components {
  public:
   template <class T>
@@ -52,8 +55,18 @@ class Components {
   std::unordered_map<const void*, std::shared_ptr<void>> objects_;
 };
 
-// An end-of-run summary: files on the root (with an output directory) and text (on the root).
+// An end-of-run summary: files on the root (with an output directory) and text (on the root). Collective.
 using Summary = std::function<std::string(const StepContext&)>;
+
+// A model's state that travels in checkpoints, by name (io/state_checkpoint.hpp: CheckpointSection).
+// save() runs on the root only, so the state must be the same on every rank or held by the root alone;
+// load() runs on every rank, once every model is installed, when the checkpoint of a restart has a
+// section of that name.
+struct StateSection {
+  std::string name;
+  std::function<void(ByteWriter&)> save;
+  std::function<void(ByteReader&, const std::string& context)> load;
+};
 
 struct Installation {
   Simulation& sim;            // the state so far: particles, box, halo, pair forces, bonds
@@ -62,11 +75,15 @@ struct Installation {
   bool restarted;             // continuing from a checkpoint
   StageList& stages;
   Components& components;
-  std::vector<Summary>& summaries;  // after the observers' own, in this order
-  // What the observers are built with: thermo columns and checkpoint sections are added here.
-  ObserverSettings observers;
-  // The observers' state from the checkpoint (empty when not restarting or none was saved).
-  std::vector<std::byte> observer_state;
+  // Printed in the order of summary_order() (engine/installers.cpp), then the rest in the order added.
+  std::vector<Summary>& summaries;
+  std::vector<StateSection>& sections;  // names unique (a second section of a name is refused)
+  Observers& observers;                 // the index of the analyses for the API (analysis/observers.hpp)
+  // Thermo columns, appended to every thermo row in this order, and the index among them of a
+  // temperature that the run's means and its warning use instead of thermo's own (-1: none). The thermo
+  // model takes them: a model installed after it that adds one is refused.
+  std::vector<ThermoColumn> thermo_columns;
+  int temperature_column = -1;
   StepContext context() const;
   // The forces of the initial state: a new run's (neighbours, ghosts, pair and bonded forces, the Forces
   // stages installed so far), or the bonded forces a subcycled restart recomputes. Called by the
@@ -89,10 +106,14 @@ struct Model {
 
 // The models, in order: those of engine/installers.cpp with any registered at run time among them.
 std::vector<Model> models();
+// The models whose end-of-run summaries come first, in this order (the order the analyses' summaries
+// had when they were one stage; it is not the order of their stages). Every other model's follow, in
+// the order of the list.
+const std::vector<std::string>& summary_order();
 // Adds a model at run time (tests, and programs that bring their own models), just before the listed
-// model `before`: by default before the observers, so that its thermo columns and checkpoint section
+// model `before`: by default before the thermo rows (the first analysis), so that its thermo columns
 // reach them; a model that adds Forces stages goes before "initial_forces". Call it before any spec is
 // read or Simulation made. A second model of the same name is refused.
-void register_model(Model model, std::string before = "observers");
+void register_model(Model model, std::string before = "thermo");
 
 }  // namespace mesodpd

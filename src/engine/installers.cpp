@@ -14,8 +14,20 @@ namespace mesodpd {
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
-void install_observers(Installation& in);        // thermo, analyses, trajectories, progress (EndOfStep)
-void install_checkpoints(Installation& in);      // output.checkpoint_every (EndOfStep, after the observers)
+// The analyses (engine/install_analyses.cpp), each its own EndOfStep stage, in the order they ran in
+// when they were one stage (Observers) so that every output stays byte for byte the same.
+void install_thermo(Installation& in);            // thermo.csv rows and means (+ the columns above)
+void install_surface_tension(Installation& in);   // [analysis.surface_tension] (reads the thermo rows)
+void install_velocity_profile(Installation& in);  // [poiseuille] profile and viscosity
+void install_fields(Installation& in);            // [analysis.fields], one stage per grid
+void install_snapshot(Installation& in);          // the whole system in id order, for the stages below
+void install_trajectory(Installation& in);        // [output.dump] frames
+void install_rdf(Installation& in);               // [analysis.rdf]
+void install_msd(Installation& in);               // [analysis.msd]
+void install_droplet(Installation& in);           // [analysis.droplet]
+void install_stress_profile(Installation& in);    // [analysis.stress_profile]
+void install_progress(Installation& in);          // the progress bar
+void install_checkpoints(Installation& in);       // output.checkpoint_every (EndOfStep, after the analyses)
 
 namespace {
 
@@ -31,13 +43,30 @@ std::vector<Model> models() {
   std::vector<Model> list{{"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},
-                          {"observers", install_observers, {}},
+                          {"thermo", install_thermo, {}},
+                          {"surface_tension", install_surface_tension, {}},
+                          {"velocity_profile", install_velocity_profile, {}},
+                          {"fields", install_fields, {}},
+                          {"snapshot", install_snapshot, {}},
+                          {"trajectory", install_trajectory, {}},
+                          {"rdf", install_rdf, {}},
+                          {"msd", install_msd, {}},
+                          {"droplet", install_droplet, {}},
+                          {"stress_profile", install_stress_profile, {}},
+                          {"progress", install_progress, {}},
                           {"checkpoints", install_checkpoints, {}}};
   for (const auto& [model, before] : registered()) {
     auto at = std::find_if(list.begin(), list.end(), [&](const Model& m) { return m.name == before; });
     list.insert(at, model);
   }
   return list;
+}
+
+const std::vector<std::string>& summary_order() {
+  static const std::vector<std::string> order{"thermo",  "velocity_profile", "fields",         "rdf",
+                                              "surface_tension", "droplet", "stress_profile", "msd",
+                                              "progress"};
+  return order;
 }
 
 void register_model(Model model, std::string before) {

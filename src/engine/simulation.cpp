@@ -14,7 +14,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "analysis/observers.hpp"
 #include "analysis/thermo.hpp"
 #include "engine/domain_exchange.hpp"
 #include "engine/installer.hpp"
@@ -138,30 +137,37 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   }
   start_step_ = step_;
   // Every model joins through its installer, in the order of engine/installers.cpp.
-  Installation setup{*this,
-                     spec_,
-                     options_,
-                     restarted,
-                     stages_,
-                     components_,
-                     summaries_,
-                     ObserverSettings{options_.out_dir, options_.progress, restarted, final_step_, options_.record, {}, {}, {}, 0.0, {}},
-                     std::move(pending_observer_state_)};
-  bool observers_built = false;
+  std::vector<Summary> summaries;
+  Installation setup{*this, spec_, options_, restarted, stages_, components_, summaries, sections_, observers_, {}, -1};
+  const std::vector<std::string>& order = summary_order();
+  bool thermo_installed = false;
   for (const Model& model : models()) {
     model.install(setup);
-    // Thermo columns and checkpoint sections reach the observers only from models installed before
-    // them; a later one would be dropped in silence.
-    if (observers_built && (!setup.observers.columns.empty() || !setup.observers.sections.empty()))
+    // Thermo columns reach the thermo rows only from models installed before them; a later one would be
+    // dropped in silence.
+    if (thermo_installed && !setup.thermo_columns.empty())
       throw std::logic_error("model " + model.name +
-                             " adds thermo columns or checkpoint sections after the observers; register it before "
-                             "\"observers\" (engine/installer.hpp)");
-    if (model.name == "observers") {
-      observers_built = true;
-      setup.observers = ObserverSettings{};
-    }
+                             " adds thermo columns after the thermo rows; register it before \"thermo\" "
+                             "(engine/installer.hpp)");
+    if (model.name == "thermo") thermo_installed = true;
+    const auto place = static_cast<std::size_t>(std::find(order.begin(), order.end(), model.name) - order.begin());
+    for (Summary& part : summaries) summaries_.emplace_back(place, std::move(part));
+    summaries.clear();
   }
-  observers_ = components_.find<Observers>();
+  std::stable_sort(summaries_.begin(), summaries_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  // The models' checkpoint sections, by name: each loads its own from the restart's checkpoint.
+  for (std::size_t k = 0; k < sections_.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (sections_[j].name == sections_[k].name)
+        throw std::logic_error("two checkpoint sections are named " + sections_[k].name + " (engine/installer.hpp)");
+  const std::string file = options_.restart.string();
+  for (const StateSection& section : sections_)
+    for (const CheckpointSection& stored : pending_sections_)
+      if (stored.name == section.name) {
+        ByteReader r(stored.bytes, file);
+        section.load(r, file);
+      }
+  pending_sections_.clear();
 }
 
 StepContext Installation::context() const { return sim.context(); }
@@ -325,7 +331,7 @@ void Simulation::step() {
   run_stages(StagePoint::AfterSecondHalf);
   // 6. Stop on NaN or runaway velocity before anything is written.
   check_health();
-  // 7. Measure and write: the observers, then the periodic checkpoint.
+  // 7. Measure and write: the analyses, then the periodic checkpoint.
   run_stages(StagePoint::EndOfStep);
 }
 
@@ -531,17 +537,16 @@ void Simulation::check_initial_overflow() const {
 }
 
 const std::vector<std::string>& Simulation::warnings() const {
-  static const std::vector<std::string> none;
-  return observers_ ? observers_->warnings() : none;
+  return observers_.warnings();
 }
 
 std::optional<std::string> Simulation::runaway_temperature() const {
   const double ratio = spec_.max_temperature_ratio;
-  if (!(ratio > 0) || !observers_) return std::nullopt;
+  if (!(ratio > 0)) return std::nullopt;
   // A short run may still carry the heat of a random start (an mDPD slab is at 5.8 kT after 20 steps of
   // dt = 0.01, 1.7 kT after 200): those get the warning only.
   if (static_cast<double>(final_step_ - start_step_) * spec_.dt < kRunawayMinTime) return std::nullopt;
-  const std::optional<double> t = observers_->late_temperature();
+  const std::optional<double> t = observers_.late_temperature();
   if (!t || (!(*t > ratio * spec_.kT) && std::isfinite(*t))) return std::nullopt;  // NaN and infinity are runaways
   return fmt::format("the run ran away: its mean temperature over the second half of the run, {:.4g}, is {:.3g} "
                      "times the target kT = {} (more than run.max_temperature_ratio = {}), so its results are not to "
@@ -591,11 +596,10 @@ std::string Simulation::finish() {
                            bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
-  // The summaries are files of the root (Observers::finish does nothing elsewhere); a failed write stops
-  // every rank. The models' summaries are collective themselves.
+  // The summaries are collective (the analyses' write their files and text on the root, and a failed
+  // write there stops every rank).
   const StepContext ctx = context();
-  if (observers_) halo_.comm().on_root([&] { summary += observers_->finish(ctx); });
-  for (const Summary& part : summaries_) summary += part(ctx);
+  for (const auto& entry : summaries_) summary += entry.second(ctx);
   return summary;
 }
 
@@ -614,13 +618,13 @@ void Simulation::write_checkpoint(const std::filesystem::path& file) const {
     h.has_config = true;
     h.periodic = box_.periodic;
     for (const SpeciesSpec& sp : spec_.species) h.species.push_back({sp.name, sp.mass, sp.count, sp.frozen});
-    std::vector<std::byte> observer_state;
-    if (observers_) {
+    std::vector<CheckpointSection> sections;
+    for (const StateSection& section : sections_) {
       ByteWriter w;
-      observers_->save(w);
-      observer_state = w.take();
+      section.save(w);
+      sections.push_back({section.name, w.take()});
     }
-    write_state_checkpoint(file, h, all, observers_ ? &observer_state : nullptr, &bonds_.topology());
+    write_state_checkpoint(file, h, all, sections, &bonds_.topology());
   });
 }
 
@@ -673,8 +677,8 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   box_.len = {h.box[0], h.box[1], h.box[2]};
   p_ = std::move(c.particles);
   make_bonded(std::move(c.topology));
-  // Observer state is applied once the observers exist (end of the constructor).
-  if (c.observer_state) pending_observer_state_ = std::move(*c.observer_state);
+  // The models' sections are loaded once every model is installed (end of the constructor).
+  pending_sections_ = std::move(c.sections);
   const std::size_t n = p_.n_local;
   for (std::size_t i = 0; i < n; ++i)
     if (p_.species[i] < 0 || static_cast<std::size_t>(p_.species[i]) >= h.n_species)

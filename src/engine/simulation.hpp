@@ -1,5 +1,5 @@
 // A simulation: the particles, the pair forces, the integrator and the stages registered at named
-// points of the step (external fields, observers, writers), with Simulation::step() as the one place
+// points of the step (external fields, walls, analyses, writers), with Simulation::step() as the one place
 // that says what a time step is.
 #pragma once
 #include <array>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/box.hpp"
+#include "analysis/observers.hpp"
 #include "analysis/thermo.hpp"
 #include "core/particle_data.hpp"
 #include "core/stage.hpp"
@@ -38,7 +39,6 @@ struct RunOptions {
   bool record = false;  // measure and keep thermo rows and analyses in memory even without out_dir
 };
 
-class Observers;  // measurements and writers (analysis/observers.hpp)
 class Walls;      // reflections at [[solid]] walls (boundary/walls.hpp)
 struct Installation;
 
@@ -55,8 +55,8 @@ class Simulation {
   // What run() does after its last step: the final checkpoint (with out_dir) and the analysis
   // summaries (files with out_dir; the text on the root). May be called at any step, more than once.
   std::string finish();
-  // The measurements (thermo history, analyses; see Observers) for the API.
-  const Observers& observers() const { return *observers_; }
+  // The measurements (thermo history, analyses; the index of analysis/observers.hpp) for the API.
+  const Observers& observers() const { return observers_; }
   // Warnings about the finished run (on the root rank; also in run()'s summary): a mean temperature
   // away from kT. The command line prints them to stderr.
   const std::vector<std::string>& warnings() const;
@@ -164,7 +164,7 @@ class Simulation {
   std::uint64_t final_step_ = 0;
   std::uint64_t start_step_ = 0;  // where this process's run began (0, or the checkpoint's step)
   std::uint64_t n_total_ = 0;
-  std::vector<std::byte> pending_observer_state_;  // from a checkpoint, until the observers exist
+  std::vector<CheckpointSection> pending_sections_;  // from a checkpoint, until every model is installed
   std::uint64_t neighbor_builds_before_ = 0;  // builds of the run that wrote the loaded checkpoint
   std::optional<DensitySettings> density_;  // the law's density pass (many-body DPD), if any
   std::vector<double> rho_;                 // local densities of locals and ghosts from that pass
@@ -176,10 +176,12 @@ class Simulation {
   // current positions (storage order; x, y, z per particle); p.f then holds only the other forces.
   std::vector<double> fast_;
   double run_wall_seconds_ = 0, run_bonded_seconds_ = 0;  // of the last run(), for finish()
-  StageList stages_;                 // owns the stages, the observers among them
-  Components components_;            // what the installers share (walls, observers)
-  std::vector<Summary> summaries_;   // the installers' end-of-run summaries
-  Observers* observers_ = nullptr;   // the observers' stage (running averages go into checkpoints)
+  StageList stages_;                 // owns the stages, the analyses among them
+  Components components_;            // what the installers share (walls, thermo rows, snapshot)
+  // The installers' end-of-run summaries, in the order of summary_order() (each with its place there).
+  std::vector<std::pair<std::size_t, Summary>> summaries_;
+  std::vector<StateSection> sections_;  // the models' checkpoint sections, in the order registered
+  Observers observers_;              // the index of the analyses (for the API)
 };
 
 

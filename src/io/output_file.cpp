@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <mutex>
 #include <utility>
@@ -114,6 +115,13 @@ void OutputFile::close() {
   const int err = errno;
   fd_ = -1;
   if (rc != 0 && err != EINTR) throw OutputError(path_, std::string("close failed: ") + std::strerror(err));
+}
+
+std::optional<std::uint64_t> leading_step(const std::string& text) {
+  std::uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end == text.data()) return std::nullopt;
+  return v;
 }
 
 }  // namespace mesodpd

@@ -3,8 +3,10 @@
 // naming the file, never a silently shorter file.
 #pragma once
 #include <concepts>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -89,5 +91,9 @@ using OutputFaultHook = std::function<int(const std::filesystem::path&)>;
 void set_output_fault_hook(OutputFaultHook hook);
 // The injected errno for a write to `path` (0 when none); used by the writers of this module.
 int injected_output_fault(const std::filesystem::path& path);
+
+// The leading unsigned integer of `text` (the step of a thermo row or of a dump frame), or nothing: a
+// restarted run drops the rows and frames of its files that lie after the checkpoint's step.
+std::optional<std::uint64_t> leading_step(const std::string& text);
 
 }  // namespace mesodpd

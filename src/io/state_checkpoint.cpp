@@ -21,7 +21,7 @@ constexpr std::uint64_t tag_of(int version) { return kTagStem | static_cast<std:
 }  // namespace
 
 void write_state_checkpoint(const std::filesystem::path& file, const StateHeader& h, const ParticleData& all,
-                            const std::vector<std::byte>* observer_state, const Topology* topology) {
+                            const std::vector<CheckpointSection>& sections, const Topology* topology) {
   ByteWriter w;
   w.put<std::uint64_t>(tag_of(kStateFormatVersion));
   w.put<std::uint64_t>(h.step);
@@ -42,8 +42,11 @@ void write_state_checkpoint(const std::filesystem::path& file, const StateHeader
     w.put<std::uint8_t>(static_cast<std::uint8_t>(f.elem_bytes));
     w.put_vector(std::span(v.data(), n));
   });
-  w.put<std::uint8_t>(observer_state ? 1 : 0);
-  if (observer_state) w.put_vector(*observer_state);
+  w.put<std::uint64_t>(sections.size());
+  for (const CheckpointSection& section : sections) {
+    w.put_string(section.name);
+    w.put_vector(section.bytes);
+  }
   // Topology: bonds as (a, b, type) and angles as (a, b, c, type), 32-bit words.
   std::vector<std::uint32_t> words;
   if (topology)
@@ -79,9 +82,9 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
   const int version = static_cast<int>(tag & 0xff) - '0';
   if (version < kOldestReadableStateFormat || version > kStateFormatVersion)
     throw ConfigError(fmt::format(
-        "{}: state format {} cannot be read by this mesodpd, which reads format {} (and format {}); continue "
+        "{}: state format {} cannot be read by this mesodpd, which reads format {} (and format {} up to {}); continue "
         "that run with the mesodpd that wrote it, or start it again",
-        where, version, kStateFormatVersion, kOldestReadableStateFormat));
+        where, version, kStateFormatVersion, kOldestReadableStateFormat, kStateFormatVersion - 1));
   StateCheckpoint c;
   StateHeader& h = c.header;
   h.step = r.get<std::uint64_t>();
@@ -122,7 +125,17 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
   for (std::size_t k = 0; k < seen.size(); ++k)
     if ((ParticleData::fields()[k].flags & field::kCheckpoint) && !seen[k])
       throw ConfigError(fmt::format("{}: particle field '{}' is missing", where, ParticleData::fields()[k].name));
-  if (r.get<std::uint8_t>() != 0) c.observer_state = r.get_vector<std::byte>();
+  if (version >= 7) {
+    const auto n_sections = r.get<std::uint64_t>();
+    for (std::uint64_t k = 0; k < n_sections; ++k) {
+      CheckpointSection section;
+      section.name = r.get_string();
+      section.bytes = r.get_vector<std::byte>();
+      c.sections.push_back(std::move(section));
+    }
+  } else if (r.get<std::uint8_t>() != 0) {
+    c.sections = split_observer_state(r.get_vector<std::byte>(), where);
+  }
   const std::vector<std::uint32_t> bonds = r.get_vector<std::uint32_t>();
   const std::vector<std::uint32_t> angles = r.get_vector<std::uint32_t>();
   if (bonds.size() % 3 != 0 || angles.size() % 4 != 0)
@@ -147,6 +160,47 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
   }
   r.expect_end();
   return c;
+}
+
+std::vector<CheckpointSection> split_observer_state(const std::vector<std::byte>& blob, const std::string& context) {
+  // The layout Observers::save wrote up to format 6, read as Observers::load read it.
+  ByteReader r(blob, context);
+  std::vector<CheckpointSection> out;
+  ByteWriter thermo;
+  thermo.put<double>(r.get<double>());         // temperature sum
+  thermo.put<double>(r.get<double>());         // pressure sum
+  thermo.put<std::uint64_t>(r.get<std::uint64_t>());  // thermo rows
+  out.push_back({section_name::kThermo, thermo.take()});
+  // A part with its presence flag: absent parts have no section.
+  auto part = [&](const char* name) {
+    const bool present = r.get<std::uint8_t>() != 0;
+    std::vector<std::byte> bytes = r.get_vector<std::byte>();
+    if (present) out.push_back({name, std::move(bytes)});
+  };
+  // Parts by name (binned-fields grids, other models' sections).
+  auto named = [&](const std::string& prefix) {
+    const auto count = r.get<std::uint64_t>();
+    for (std::uint64_t k = 0; k < count; ++k) {
+      std::string name = prefix + r.get_string();
+      out.push_back({std::move(name), r.get_vector<std::byte>()});
+    }
+  };
+  part(section_name::kVelocityProfile);
+  part(section_name::kRdf);
+  part(section_name::kMsd);
+  // Each later part was added by a later version: a blob from before it ends here.
+  if (r.remaining() == 0) return out;
+  named(section_name::kFieldsPrefix);
+  if (r.remaining() == 0) return out;
+  part(section_name::kSurfaceTension);
+  if (r.remaining() == 0) return out;
+  named("");
+  if (r.remaining() == 0) return out;
+  part(section_name::kDroplet);
+  if (r.remaining() == 0) return out;
+  part(section_name::kStressProfile);
+  r.expect_end();
+  return out;
 }
 
 }  // namespace mesodpd

@@ -1,5 +1,6 @@
 // The state checkpoint's payload: run header, the particle fields the field list marks kCheckpoint
-// (stored by name and element type), and the observers' running averages as an opaque section.
+// (stored by name and element type), and the named sections of the models (each analysis's running
+// averages, the walls' drag and adaptive force, ...), opaque here.
 // The payload goes inside the checksummed container of io/checkpoint_file.hpp.
 #pragma once
 #include <array>
@@ -17,8 +18,10 @@ namespace mesodpd {
 // Version of the payload layout, stored as the tag "MESODPD<version>". 3: fixed list of arrays (up
 // to this refactor); 4: named, typed fields from the particle field list; 5: the molecular topology
 // (bonds and angles by global id) after the observers' section; 6: the run's configuration that the
-// checkpoint fixes (periodicity, species) at the end. Format 5 is still read (without that part).
-inline constexpr int kStateFormatVersion = 6;
+// checkpoint fixes (periodicity, species) at the end; 7: named sections, one per model, in place of the
+// observers' one blob. Formats 5 and 6 are still read: their blob is split into the sections of
+// format 7 (split_observer_state below), and a format 5 file has no configuration.
+inline constexpr int kStateFormatVersion = 7;
 inline constexpr int kOldestReadableStateFormat = 5;
 
 // A species as the run that wrote the checkpoint configured it ([[species]] name, mass, count, frozen).
@@ -42,21 +45,49 @@ struct StateHeader {
   std::vector<CheckpointSpecies> species;
 };
 
+// A model's part of the checkpoint, by name: a restart hands the bytes to the model that registers a
+// section of that name, so a model switched off at the restart skips its section and one switched on
+// starts afresh.
+struct CheckpointSection {
+  std::string name;
+  std::vector<std::byte> bytes;
+  bool operator==(const CheckpointSection&) const = default;
+};
+
+// The names the analyses save their sections under (engine/install_analyses.cpp); a format 5 or 6
+// observers' blob is split into these. A binned-fields grid's is kFieldsPrefix + its name.
+namespace section_name {
+inline constexpr const char* kThermo = "thermo";
+inline constexpr const char* kVelocityProfile = "velocity_profile";
+inline constexpr const char* kRdf = "rdf";
+inline constexpr const char* kMsd = "msd";
+inline constexpr const char* kFieldsPrefix = "fields/";
+inline constexpr const char* kSurfaceTension = "surface_tension";
+inline constexpr const char* kDroplet = "droplet";
+inline constexpr const char* kStressProfile = "stress_profile";
+}  // namespace section_name
+
 // What a checkpoint holds: the header, every particle (locals only, n_local of them, in the file's
-// order) and the observers' state if the run that wrote it had observers.
+// order), the models' sections and the topology.
 struct StateCheckpoint {
   StateHeader header;
   ParticleData particles;
-  std::optional<std::vector<std::byte>> observer_state;
+  std::vector<CheckpointSection> sections;
   Topology topology;
 };
 
-// Writes the first all.n_local particles of `all` (every field flagged kCheckpoint) atomically.
-// Throws ConfigError naming the file.
+// Writes the first all.n_local particles of `all` (every field flagged kCheckpoint) and the sections
+// atomically. Throws ConfigError naming the file.
 void write_state_checkpoint(const std::filesystem::path& file, const StateHeader& header, const ParticleData& all,
-                            const std::vector<std::byte>* observer_state, const Topology* topology = nullptr);
+                            const std::vector<CheckpointSection>& sections, const Topology* topology = nullptr);
 
-// Reads a checkpoint written by write_state_checkpoint. Throws ConfigError naming the file for a
+// The observers' one blob of formats 5 and 6 as the sections of format 7: the thermo sums, then
+// length-prefixed parts (each with a presence flag) for the profile, RDF and MSD, the binned-fields
+// grids by name, the surface tension, the other models' sections by name, the droplet and the stress
+// profile (a blob written before a part existed ends before it). Throws ConfigError naming `context`.
+std::vector<CheckpointSection> split_observer_state(const std::vector<std::byte>& blob, const std::string& context);
+
+// Reads a checkpoint written by write_state_checkpoint (or by format 5 or 6). Throws ConfigError naming the file for a
 // damaged file (container checks), another payload version (naming both versions), a field missing,
 // unknown or of another element type, or arrays of different lengths. Fields not flagged kCheckpoint
 // come back zero.

@@ -135,9 +135,11 @@ TEST(StateCheckpoint, RoundTripKeepsEveryCheckpointField) {
   h.dt = 0.025;
   h.n_species = 2;
   h.box = {5, 6, 7};
-  const std::vector<std::byte> obs = {std::byte{1}, std::byte{2}, std::byte{3}};
+  const std::vector<CheckpointSection> sections = {{"thermo", {std::byte{1}, std::byte{2}, std::byte{3}}},
+                                                   {"walls", {}},
+                                                   {"fields/slab", {std::byte{4}}}};
   const fs::path file = temp_file("roundtrip.mdpd");
-  write_state_checkpoint(file, h, p, &obs);
+  write_state_checkpoint(file, h, p, sections);
   const StateCheckpoint c = read_state_checkpoint(file);
   EXPECT_EQ(c.header.step, 1234u);
   EXPECT_EQ(c.header.neighbor_builds, 99u);
@@ -145,14 +147,59 @@ TEST(StateCheckpoint, RoundTripKeepsEveryCheckpointField) {
   EXPECT_EQ(c.header.dt, 0.025);
   EXPECT_EQ(c.header.n_species, 2u);
   EXPECT_EQ(c.header.box[2], 7.0);
-  ASSERT_TRUE(c.observer_state.has_value());
-  EXPECT_EQ(*c.observer_state, obs);
+  EXPECT_EQ(c.sections, sections);
   ASSERT_EQ(c.particles.n_local, 300u);
   EXPECT_EQ(c.particles.id, std::vector<std::uint32_t>(p.id.begin(), p.id.begin() + 300));
   expect_consistent(c.particles, 300, field::kCheckpoint);
-  // Without observers the section is absent.
-  write_state_checkpoint(file, h, p, nullptr);
-  EXPECT_FALSE(read_state_checkpoint(file).observer_state.has_value());
+  // Without sections there are none.
+  write_state_checkpoint(file, h, p, {});
+  EXPECT_TRUE(read_state_checkpoint(file).sections.empty());
+}
+
+TEST(StateCheckpoint, TheObserversBlobOfFormat6SplitsIntoNamedSections) {
+  // The blob Observers::save wrote up to format 6: thermo sums, then parts with a presence flag and
+  // parts by name, each length-prefixed.
+  using B = std::vector<std::byte>;
+  const B profile{std::byte{1}}, msd{std::byte{2}, std::byte{3}}, grid{std::byte{4}}, tension{std::byte{5}},
+      walls{std::byte{6}}, droplet{std::byte{7}};
+  auto part = [](ByteWriter& w, const B* bytes) {
+    w.put<std::uint8_t>(bytes ? 1 : 0);
+    w.put_vector(bytes ? *bytes : B{});
+  };
+  ByteWriter w;
+  w.put<double>(1.5);
+  w.put<double>(2.5);
+  w.put<std::uint64_t>(3);
+  part(w, &profile);
+  part(w, nullptr);  // no RDF
+  part(w, &msd);
+  const std::size_t before_fields = w.size();
+  w.put<std::uint64_t>(1);
+  w.put_string("slab");
+  w.put_vector(grid);
+  part(w, &tension);
+  w.put<std::uint64_t>(1);
+  w.put_string("walls");
+  w.put_vector(walls);
+  part(w, &droplet);
+  part(w, nullptr);  // no stress profile
+  const std::vector<CheckpointSection> sections = split_observer_state(w.bytes(), "blob");
+  ByteWriter thermo;
+  thermo.put<double>(1.5);
+  thermo.put<double>(2.5);
+  thermo.put<std::uint64_t>(3);
+  const std::vector<CheckpointSection> expected{{"thermo", thermo.bytes()},    {"velocity_profile", profile},
+                                                {"msd", msd},                 {"fields/slab", grid},
+                                                {"surface_tension", tension}, {"walls", walls},
+                                                {"droplet", droplet}};
+  EXPECT_EQ(sections, expected);
+  // A blob from before the binned fields ends after the MSD.
+  const B early(w.bytes().begin(), w.bytes().begin() + static_cast<std::ptrdiff_t>(before_fields));
+  EXPECT_EQ(split_observer_state(early, "blob"),
+            (std::vector<CheckpointSection>(expected.begin(), expected.begin() + 3)));
+  // A damaged one is refused.
+  const B cut(w.bytes().begin(), w.bytes().end() - 3);
+  EXPECT_THROW(split_observer_state(cut, "blob"), ConfigError);
 }
 
 TEST(StateCheckpoint, AnOlderPayloadVersionIsRefusedNamingFileAndVersions) {

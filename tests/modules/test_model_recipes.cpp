@@ -36,14 +36,14 @@ const keys::KeyTable<LateSpec>& late_keys() {
 }
 
 // The models join once per test program, before any spec is read. The third is misplaced on purpose:
-// after the observers, where its thermo column could not reach them.
+// after the thermo rows, where its thermo column could not reach them.
 const bool kRegistered = [] {
   register_model(test_models::rescale_model());
   register_model(test_models::moments_model());
   register_model({"test_late",
                   [](Installation& in) {
                     if (in.spec.model<LateSpec>("test_late"))
-                      in.observers.columns.push_back({"late", [](const StepContext&) { return 0.0; }});
+                      in.thermo_columns.push_back({"late", [](const StepContext&) { return 0.0; }});
                   },
                   [] { return model_section(late_keys()); }},
                  "checkpoints");
@@ -180,7 +180,7 @@ TEST(ModelRecipes, AModelAfterTheObserversCannotAddColumnsInSilence) {
   ASSERT_TRUE(kRegistered);
   try {
     Simulation sim(parse_config(fluid(5, 4.5, "[test_late]\n"), "recipe.toml"), RunOptions{});
-    FAIL() << "a column after the observers was accepted";
+    FAIL() << "a column after the thermo rows was accepted";
   } catch (const std::logic_error& e) {
     EXPECT_NE(std::string(e.what()).find("test_late"), std::string::npos) << e.what();
   }

@@ -56,8 +56,8 @@ void install_moments(Installation& in) {
   const MomentsSpec* spec = in.spec.model<MomentsSpec>("analysis.test_moments");
   if (!spec) return;
   Moments& m = in.stages.add(StagePoint::EndOfStep, std::make_unique<Moments>(spec->every));
-  in.observers.columns.push_back({"v4_ratio", [](const StepContext& ctx) { return v4_ratio(ctx); }});
-  in.observers.sections.push_back({"test_moments", [&m](ByteWriter& w) { m.save(w); },
+  in.thermo_columns.push_back({"v4_ratio", [](const StepContext& ctx) { return v4_ratio(ctx); }});
+  in.sections.push_back({"test_moments", [&m](ByteWriter& w) { m.save(w); },
                                    [&m](ByteReader& r, const std::string&) { m.load(r); }});
   in.summaries.push_back([&m](const StepContext& ctx) { return ctx.comm.root() ? m.summary() : std::string(); });
 }

@@ -148,7 +148,7 @@ TEST(FieldList, ANewFieldIsGatheredAndSurvivesACheckpoint) {
     }
     StateHeader h;
     h.n_species = 1;
-    write_state_checkpoint(file, h, all, nullptr);
+    write_state_checkpoint(file, h, all, {});
     const StateCheckpoint c = read_state_checkpoint(file);
     ASSERT_EQ(c.particles.n_local, w.total);
     for (std::size_t i = 0; i < w.total; ++i) {
