@@ -1,6 +1,9 @@
 // Reordering of the particle arrays (spatial sorting), driven by the field list.
 #include "core/particle_data.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace mesodpd {
 
 namespace {
@@ -33,6 +36,24 @@ void ParticleData::permute(const std::vector<std::uint32_t>& order, std::size_t 
   permuted_from_ = generation_;
   generation_ = next_generation();
   permuted_to_ = generation_;
+}
+
+void ParticleData::enable(std::string_view name) {
+  const std::size_t k = field_index(name);
+  if (k == kFieldCount) throw std::invalid_argument("ParticleData::enable: no particle field '" + std::string(name) + "'");
+  if (!(fields()[k].flags & field::kOptional)) return;  // always held
+  if (enabled(k)) return;
+  optional_on_ |= std::uint64_t{1} << k;
+  const std::size_t n = id.size();  // the length of the last resize(), which may exceed size()
+  for_each_field([&](const FieldInfo&, auto& v) {
+    if (v.size() != n) v.resize(n, 0);
+  });
+  generation_ = next_generation();
+}
+
+void ParticleData::enable_mask(std::uint64_t mask) {
+  for (std::size_t k = 0; k < kFieldCount; ++k)
+    if ((mask >> k) & 1u) enable(fields()[k].name);
 }
 
 }  // namespace mesodpd

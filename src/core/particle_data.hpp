@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <string_view>
 #include <tuple>
 #include <type_traits>
 #include <vector>
@@ -23,6 +24,10 @@ inline constexpr unsigned kCheckpoint = 1u << 3;  // stored in state checkpoints
 inline constexpr unsigned kFrame = 1u << 4;       // offered to trajectory frames (io/frame.hpp)
 inline constexpr unsigned kForce = 1u << 5;       // recomputed by the force stage before anything reads
                                                   // it: permute(Forces::Discard) leaves it unordered
+inline constexpr unsigned kOptional = 1u << 6;    // held only where a model enables it (ParticleData::enable):
+                                                  // until then its array stays empty and every path above
+                                                  // (resize, permute, records, checkpoints, frames) skips it,
+                                                  // so a model's fields cost nothing in runs without it
 }  // namespace field
 
 // THE list of per-particle fields: X(element type, member name, flags). Adding a field is one line
@@ -63,6 +68,12 @@ inline constexpr unsigned kForce = 1u << 5;       // recomputed by the force sta
   /* solid body of a frozen wall particle: [[solid]] index + 1, 0 for a mobile particle (ghosts carry it  \
      so that the pair loop skips frozen-frozen pairs) */                                                   \
   X(std::int32_t, body, field::kMigrate | field::kGhost | field::kCheckpoint | field::kFrame)                \
+  /* optional (enabled by the model that uses them) --------------------------------------------------- */ \
+  /* energy-conserving DPD (physics/edpd_pair.hpp): the internal temperature T_i and its rate dT_i/dt of   \
+     the last force evaluation, the heat flux over C_v (the modified velocity-Verlet reads it across steps) */ \
+  X(double, temp, field::kOptional | field::kMigrate | field::kGhost | field::kRefresh | field::kCheckpoint |  \
+                      field::kFrame)                                                                          \
+  X(double, temp_rate, field::kOptional | field::kMigrate | field::kCheckpoint | field::kFrame | field::kForce) \
   MESODPD_EXTRA_PARTICLE_FIELDS(X)
 
 // Name, flags and element type of one field, for code that handles fields by name (checkpoints).
@@ -92,25 +103,50 @@ struct ParticleData {
   MESODPD_PARTICLE_FIELDS(MESODPD_DECLARE_FIELD)
 #undef MESODPD_DECLARE_FIELD
 
-  // Every field's name, flags and element type, in list order.
-  static constexpr auto fields() {
-    return std::array{
+#define MESODPD_COUNT_FIELD(T, name, flags) +1
+  static constexpr std::size_t kFieldCount = 0 MESODPD_PARTICLE_FIELDS(MESODPD_COUNT_FIELD);
+#undef MESODPD_COUNT_FIELD
+  // Every field's name, flags and element type, in list order (optional ones included, enabled or not).
+  static constexpr std::array<FieldInfo, kFieldCount> fields() {
+    return std::array<FieldInfo, kFieldCount>{
 #define MESODPD_FIELD_INFO(T, name, flags) FieldInfo{#name, (flags), field_kind<T>(), sizeof(T)},
         MESODPD_PARTICLE_FIELDS(MESODPD_FIELD_INFO)
 #undef MESODPD_FIELD_INFO
     };
   }
+  // The position of a field in the list, by name (kFieldCount if there is none of that name).
+  static constexpr std::size_t field_index(std::string_view name) {
+    for (std::size_t k = 0; k < kFieldCount; ++k)
+      if (name == fields()[k].name) return k;
+    return kFieldCount;
+  }
 
-  // Calls f(info, vector) for every field, in list order.
+  // Optional fields (field::kOptional) are held only once enabled: enable() sizes the array to the
+  // stored particles (zeros) and from then on every path treats it as any other field. A set of enabled
+  // fields as a bit mask over the list's indices, for copies that must hold the same fields.
+  bool enabled(std::size_t index) const {
+    return !(fields()[index].flags & field::kOptional) || ((optional_on_ >> index) & 1u) != 0;
+  }
+  bool enabled(std::string_view name) const { return enabled(field_index(name)); }
+  void enable(std::string_view name);
+  std::uint64_t optional_mask() const { return optional_on_; }
+  void enable_mask(std::uint64_t mask);
+
+  // Calls f(info, vector) for every field that is held (the fixed ones and the enabled optional ones),
+  // in list order.
   template <class F>
   void for_each_field(F&& f) {
-#define MESODPD_VISIT_FIELD(T, name, flags) f(FieldInfo{#name, (flags), field_kind<T>(), sizeof(T)}, name);
+    std::size_t index = 0;
+#define MESODPD_VISIT_FIELD(T, name, flags) \
+  if (enabled(index++)) f(FieldInfo{#name, (flags), field_kind<T>(), sizeof(T)}, name);
     MESODPD_PARTICLE_FIELDS(MESODPD_VISIT_FIELD)
 #undef MESODPD_VISIT_FIELD
   }
   template <class F>
   void for_each_field(F&& f) const {
-#define MESODPD_VISIT_FIELD(T, name, flags) f(FieldInfo{#name, (flags), field_kind<T>(), sizeof(T)}, name);
+    std::size_t index = 0;
+#define MESODPD_VISIT_FIELD(T, name, flags) \
+  if (enabled(index++)) f(FieldInfo{#name, (flags), field_kind<T>(), sizeof(T)}, name);
     MESODPD_PARTICLE_FIELDS(MESODPD_VISIT_FIELD)
 #undef MESODPD_VISIT_FIELD
   }
@@ -136,12 +172,12 @@ struct ParticleData {
   enum class Forces { Keep, Discard };
   void permute(const std::vector<std::uint32_t>& order, std::size_t capacity = 0, Forces forces = Forces::Keep);
 
-  // Bytes of one packed record of the fields whose flags include any bit of Mask.
+  // Bytes of one packed record of the held fields whose flags include any bit of Mask.
   template <unsigned Mask>
-  static constexpr std::size_t record_bytes() {
+  std::size_t record_bytes() const {
     std::size_t b = 0;
-    for (const FieldInfo& f : fields())
-      if (f.flags & Mask) b += f.elem_bytes;
+    for (std::size_t k = 0; k < kFieldCount; ++k)
+      if ((fields()[k].flags & Mask) && enabled(k)) b += fields()[k].elem_bytes;
     return b;
   }
   // Packs particle i's fields selected by Mask (list order, no padding) into out[0, record_bytes<Mask>()).
@@ -162,11 +198,18 @@ struct ParticleData {
       in += sizeof(v[i]);
     });
   }
-  // Copies the selected fields of particle `from` to particle `to` of `dst` (which may be *this).
+  // Copies the selected fields of particle `from` to particle `to` of `dst` (which may be *this); an
+  // optional field only where both hold it.
   template <unsigned Mask>
   void copy_to(std::size_t from, ParticleData& dst, std::size_t to) const {
-#define MESODPD_COPY_FIELD(T, name, flags) \
-  if constexpr (((flags) & Mask) != 0) dst.name[to] = name[from];
+#define MESODPD_COPY_FIELD(T, name, flags)                                            \
+  if constexpr (((flags) & Mask) != 0) {                                              \
+    if constexpr (((flags) & field::kOptional) != 0) {                                \
+      if (!dst.name.empty() && !name.empty()) dst.name[to] = name[from];              \
+    } else {                                                                          \
+      dst.name[to] = name[from];                                                      \
+    }                                                                                 \
+  }
     MESODPD_PARTICLE_FIELDS(MESODPD_COPY_FIELD)
 #undef MESODPD_COPY_FIELD
   }
@@ -202,6 +245,7 @@ struct ParticleData {
     return ++counter;
   }
   std::uint64_t generation_ = next_generation();
+  std::uint64_t optional_on_ = 0;  // bit k: optional field k is enabled
   // The last permute(): its order and the generations before and after it.
   std::vector<std::uint32_t> last_order_;
   std::uint64_t permuted_from_ = 0, permuted_to_ = 0;
@@ -214,7 +258,7 @@ static_assert([] {
     if ((f.flags & field::kCheckpoint) && !(f.flags & field::kMigrate)) return false;
     if ((f.flags & field::kRefresh) && !(f.flags & field::kGhost)) return false;
   }
-  return true;
-}(), "particle field list: kCheckpoint needs kMigrate and kRefresh needs kGhost");
+  return ParticleData::kFieldCount <= 64;
+}(), "particle field list: kCheckpoint needs kMigrate and kRefresh needs kGhost (and at most 64 fields)");
 
 }  // namespace mesodpd

@@ -62,7 +62,10 @@ const std::vector<std::string>& trajectory_field_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> out = {"id", "species", "position", "velocity", "force", "image"};
     FrameView probe;
-    set_frame_arrays(probe, ParticleData{});
+    ParticleData every;  // the optional fields too: a run holds them where its model enables them
+    for (const FieldInfo& info : ParticleData::fields())
+      if (info.flags & field::kOptional) every.enable(info.name);
+    set_frame_arrays(probe, every);
     for (const auto& e : probe.extra) out.push_back(e.name);
     return out;
   }();

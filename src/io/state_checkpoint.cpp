@@ -32,8 +32,9 @@ void write_state_checkpoint(const std::filesystem::path& file, const StateHeader
   for (double l : h.box) w.put<double>(l);
   const std::size_t n = all.n_local;
   w.put<std::uint64_t>(n);
+  // The checkpointed fields this run holds (an optional field only where its model enabled it).
   std::uint64_t n_fields = 0;
-  for (const FieldInfo& f : ParticleData::fields()) n_fields += (f.flags & field::kCheckpoint) ? 1 : 0;
+  all.for_each_field([&](const FieldInfo& f, const auto&) { n_fields += (f.flags & field::kCheckpoint) ? 1 : 0; });
   w.put<std::uint64_t>(n_fields);
   all.for_each_field([&](const FieldInfo& f, const auto& v) {
     if (!(f.flags & field::kCheckpoint)) return;
@@ -103,10 +104,11 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
     const std::string name = r.get_string();
     const char kind = r.get<char>();
     const auto elem_bytes = r.get<std::uint8_t>();
+    // An optional field in the file was held by the run that wrote it: hold it here too.
+    const std::size_t at = ParticleData::field_index(name);
+    if (at < ParticleData::kFieldCount && (ParticleData::fields()[at].flags & field::kOptional)) p.enable(name);
     bool found = false;
-    std::size_t index = 0;
     p.for_each_field([&](const FieldInfo& f, auto& v) {
-      const std::size_t at = index++;
       if (found || name != f.name || !(f.flags & field::kCheckpoint)) return;
       found = true;
       using T = typename std::remove_reference_t<decltype(v)>::value_type;
@@ -123,7 +125,8 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
     if (!found) throw ConfigError(fmt::format("{}: unknown particle field '{}'", where, name));
   }
   for (std::size_t k = 0; k < seen.size(); ++k)
-    if ((ParticleData::fields()[k].flags & field::kCheckpoint) && !seen[k])
+    if ((ParticleData::fields()[k].flags & field::kCheckpoint) && !(ParticleData::fields()[k].flags & field::kOptional) &&
+        !seen[k])
       throw ConfigError(fmt::format("{}: particle field '{}' is missing", where, ParticleData::fields()[k].name));
   if (version >= 7) {
     const auto n_sections = r.get<std::uint64_t>();

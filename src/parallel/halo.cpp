@@ -15,28 +15,32 @@ namespace {
 
 // Records are the fields of the particle field list (core/particle_data.hpp) packed back to back:
 // a moving particle carries every field flagged kMigrate, a ghost those flagged kGhost, a ghost
-// refresh those flagged kRefresh. Adding a field to the list changes the records, not this file.
-constexpr std::size_t kMoveBytes = ParticleData::record_bytes<field::kMigrate>();
-constexpr std::size_t kRefreshBytes = ParticleData::record_bytes<field::kRefresh>();
+// refresh those flagged kRefresh. Adding a field to the list changes the records, not this file. The
+// record sizes depend on the optional fields a run holds (the same on every rank: a model enables its
+// fields everywhere), so they are taken from the particles.
+std::size_t move_bytes(const ParticleData& p) { return p.record_bytes<field::kMigrate>(); }
+std::size_t refresh_bytes(const ParticleData& p) { return p.record_bytes<field::kRefresh>(); }
 // A ghost record starts with its cell coordinates in the receiver's grid frame (3 x int16 and a pad),
 // then the ghost fields.
 constexpr std::size_t kCellBytes = 4 * sizeof(std::int16_t);
-constexpr std::size_t kGhostBytes = kCellBytes + ParticleData::record_bytes<field::kGhost>();
+std::size_t ghost_bytes(const ParticleData& p) { return kCellBytes + p.record_bytes<field::kGhost>(); }
 
-// Ghost records in order of arrival, kGhostBytes each.
+// Ghost records in order of arrival, `record` bytes each.
 class GhostRecords {
  public:
-  std::size_t size() const { return bytes_.size() / kGhostBytes; }
+  explicit GhostRecords(std::size_t record) : record_(record) {}
+  std::size_t size() const { return bytes_.size() / record_; }
   std::byte* append() {
-    bytes_.resize(bytes_.size() + kGhostBytes);
-    return bytes_.data() + bytes_.size() - kGhostBytes;
+    bytes_.resize(bytes_.size() + record_);
+    return bytes_.data() + bytes_.size() - record_;
   }
-  void append(const std::byte* record) { std::memcpy(append(), record, kGhostBytes); }
-  std::byte* at(std::size_t g) { return bytes_.data() + g * kGhostBytes; }
-  const std::byte* at(std::size_t g) const { return bytes_.data() + g * kGhostBytes; }
+  void append(const std::byte* record) { std::memcpy(append(), record, record_); }
+  std::byte* at(std::size_t g) { return bytes_.data() + g * record_; }
+  const std::byte* at(std::size_t g) const { return bytes_.data() + g * record_; }
   std::vector<std::byte>& bytes() { return bytes_; }
 
  private:
+  std::size_t record_;
   std::vector<std::byte> bytes_;
 };
 
@@ -124,6 +128,7 @@ void Halo::migrate(ParticleData& p, const CellGrid& grid) {
   Stopwatch sw(seconds_);
   p.resize(p.n_local);
   p.n_ghost = 0;
+  const std::size_t kMoveBytes = move_bytes(p);
   std::array<std::vector<int>, 3> owner;
   for (int d = 0; d < 3; ++d)
     for (int g = 0; g < dec_.cells[static_cast<std::size_t>(d)]; ++g)
@@ -202,13 +207,14 @@ void Halo::build_ghosts(ParticleData& p, const CellGrid& grid, std::span<const s
   if (!active()) return;
   Stopwatch sw(seconds_);
   const auto& own = grid.owned_dims();
-  GhostRecords ghosts;  // in order of arrival, with cell coordinates in this rank's frame
+  const std::size_t kGhostBytes = ghost_bytes(p);
+  GhostRecords ghosts(kGhostBytes);  // in order of arrival, with cell coordinates in this rank's frame
   for (int d = 0; d < 3; ++d) {
     const auto u = static_cast<std::size_t>(d);
     for (int dir = 0; dir < 2; ++dir) send_[u][static_cast<std::size_t>(dir)].clear();
     if (!dec_.decomposed(d)) continue;
     const std::size_t have = ghosts.size();
-    GhostRecords out[2];
+    GhostRecords out[2] = {GhostRecords(kGhostBytes), GhostRecords(kGhostBytes)};
     for (int dir = 0; dir < 2; ++dir) {
       // The lowest owned layer goes to the neighbour below (its upper ghost layer), the highest above.
       // Locals are sorted by cell, so a layer is a set of cell ranges; earlier ghosts are scanned.
@@ -296,7 +302,7 @@ void Halo::update_ghosts(ParticleData& p) {
   if (!active()) return;
   Stopwatch sw(seconds_);
   forward(
-      kRefreshBytes, 300, [&](std::size_t s, std::byte* out) { p.pack<field::kRefresh>(s, out); },
+      refresh_bytes(p), 300, [&](std::size_t s, std::byte* out) { p.pack<field::kRefresh>(s, out); },
       [&](const std::byte* in, std::size_t s) { p.unpack<field::kRefresh>(in, s); });
 }
 
@@ -343,6 +349,9 @@ void Halo::reverse_sums(std::int64_t* v, int components, const ParticleData& p) 
 namespace mesodpd {
 
 void gather_by_id(const ParticleData& p, const Comm& comm, std::uint64_t expected, ParticleData& all) {
+  // The gathered copy holds the same optional fields.
+  all.enable_mask(p.optional_mask());
+  const std::size_t kMoveBytes = move_bytes(p);
   // Places records (in any order) at their position in id order; ids must be distinct.
   auto place = [&](std::size_t n, auto&& id_of, auto&& put) {
     if (n != expected)

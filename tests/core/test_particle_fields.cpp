@@ -27,9 +27,19 @@ T value_for(std::size_t k, std::uint32_t id) {
   return static_cast<T>(static_cast<long long>(1000 * k + id % 997));
 }
 
-// n particles with ids 1..n in a shuffled storage order and every field set from (field, id).
+// Every optional field of the list enabled (optional_mask() of such a ParticleData).
+std::uint64_t every_optional() {
+  std::uint64_t mask = 0;
+  for (std::size_t k = 0; k < ParticleData::kFieldCount; ++k)
+    if (ParticleData::fields()[k].flags & field::kOptional) mask |= std::uint64_t{1} << k;
+  return mask;
+}
+
+// n particles with ids 1..n in a shuffled storage order and every field (the optional ones enabled)
+// set from (field, id).
 ParticleData shuffled(std::size_t n, unsigned seed) {
   ParticleData p;
+  p.enable_mask(every_optional());
   p.resize(n);
   p.n_local = n;
   std::vector<std::uint32_t> ids(n);
@@ -106,12 +116,13 @@ TEST(ParticleFields, ResizeGrowsEveryFieldAndPermuteMovesEveryField) {
 
 TEST(ParticleFields, RecordsCarryExactlyTheFlaggedFields) {
   const ParticleData src = shuffled(50, 2);
-  constexpr std::size_t bytes = ParticleData::record_bytes<field::kGhost>();
+  const std::size_t bytes = src.record_bytes<field::kGhost>();
   std::size_t expect = 0;
   for (const FieldInfo& f : ParticleData::fields())
     if (f.flags & field::kGhost) expect += f.elem_bytes;
   EXPECT_EQ(bytes, expect);
   ParticleData dst;
+  dst.enable_mask(src.optional_mask());
   dst.resize(50);
   dst.n_local = 50;
   std::vector<std::byte> rec(bytes);
@@ -121,9 +132,67 @@ TEST(ParticleFields, RecordsCarryExactlyTheFlaggedFields) {
   }
   expect_consistent(dst, 50, field::kGhost);
   ParticleData all;
+  all.enable_mask(src.optional_mask());
   all.resize(50);
   for (std::size_t i = 0; i < 50; ++i) src.copy_to<field::kMigrate>(i, all, i);
   expect_consistent(all, 50, field::kMigrate);
+}
+
+TEST(ParticleFields, AnOptionalFieldCostsNothingUntilEnabledAndThenFollowsEveryPath) {
+  ASSERT_NE(every_optional(), 0u) << "the list has no optional field to test";
+  ParticleData p;
+  p.resize(40);
+  p.n_local = 40;
+  // Not enabled: empty, not visited, not in records.
+  std::size_t fixed_ghost = 0;
+  for (const FieldInfo& f : ParticleData::fields()) {
+    if (f.flags & field::kOptional) {
+      EXPECT_FALSE(p.enabled(f.name)) << f.name;
+    } else if (f.flags & field::kGhost) {
+      fixed_ghost += f.elem_bytes;
+    }
+  }
+  EXPECT_TRUE(p.temp.empty());
+  EXPECT_EQ(p.record_bytes<field::kGhost>(), fixed_ghost);
+  p.for_each_field([&](const FieldInfo& f, const auto&) { EXPECT_FALSE(f.flags & field::kOptional) << f.name; });
+  p.resize(60);
+  EXPECT_TRUE(p.temp.empty());
+  // Enabled: sized to the stored particles, zero, and carried by the records it is flagged for.
+  p.enable("temp");
+  ASSERT_EQ(p.temp.size(), 60u);
+  EXPECT_EQ(p.temp[59], 0.0);
+  EXPECT_EQ(p.record_bytes<field::kGhost>(), fixed_ghost + sizeof(double));
+  EXPECT_TRUE(p.temp_rate.empty());  // enabling one field leaves the others alone
+  // A copy into a ParticleData without the field skips it rather than writing past an empty array.
+  p.temp[3] = 2.5;
+  ParticleData plain;
+  plain.resize(60);
+  p.copy_to<field::kMigrate>(3, plain, 0);
+  EXPECT_TRUE(plain.temp.empty());
+  EXPECT_THROW(p.enable("no_such_field"), std::invalid_argument);
+}
+
+TEST(StateCheckpoint, AnOptionalFieldTravelsOnlyWhereItIsHeld) {
+  ParticleData p = shuffled(20, 5);
+  const fs::path file = temp_file("optional.mdpd");
+  StateHeader h;
+  write_state_checkpoint(file, h, p, {});
+  const StateCheckpoint with = read_state_checkpoint(file);
+  // The reader holds the optional fields the writer stored (those flagged kCheckpoint), no others.
+  std::uint64_t stored = 0;
+  for (std::size_t k = 0; k < ParticleData::kFieldCount; ++k)
+    if (ParticleData::fields()[k].flags & field::kCheckpoint) stored |= std::uint64_t{1} << k;
+  ASSERT_NE(p.optional_mask() & stored, 0u);
+  EXPECT_EQ(with.particles.optional_mask(), p.optional_mask() & stored);
+  expect_consistent(with.particles, 20, field::kCheckpoint);
+  ParticleData plain;
+  plain.resize(20);
+  plain.n_local = 20;
+  for (std::size_t i = 0; i < 20; ++i) plain.id[i] = static_cast<std::uint32_t>(i + 1);
+  write_state_checkpoint(file, h, plain, {});
+  const StateCheckpoint without = read_state_checkpoint(file);
+  EXPECT_EQ(without.particles.optional_mask(), 0u);
+  EXPECT_TRUE(without.particles.temp.empty());
 }
 
 TEST(StateCheckpoint, RoundTripKeepsEveryCheckpointField) {
