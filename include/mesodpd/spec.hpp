@@ -66,6 +66,9 @@ struct SpeciesSpec {
   // [[species]] region: generated particles of this species are kept only inside this shape (signed
   // distance < 0) or inside a [[solid]] (they become its wall particles); count/density are of the box.
   std::optional<ShapeSpec> region;
+  // The pair law's species keys (physics/law_keys.hpp, kSpeciesOwn: eDPD's cv and temperature) as
+  // written; validate() adds the law's defaults, so afterwards every key of the style's law is here.
+  std::map<std::string, double, std::less<>> own;
 };
 
 // Pair parameters as written ([pair] or one [[pair.override]]); an unset member falls back to the

@@ -83,4 +83,16 @@ MESODPD_HD double pair_noise(std::uint64_t seed, std::uint64_t step, std::uint32
   return kind == NoiseKind::Uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
 }
 
+// The pair noise xi of pair_noise (the same bits) and, from the same draw's other two words, a second
+// unit-variance noise that is antisymmetric: xe(a, b) = -xe(b, a), positive sign for id_a < id_b. The
+// fluctuating heat flux of eDPD (physics/edpd_pair.hpp) reads it.
+MESODPD_HD void pair_noise_with_antisymmetric(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a,
+                                              std::uint32_t id_b, NoiseKind kind, double& xi, double& xe) {
+  const Philox4x32 r = pair_random_bits(seed, step, id_a, id_b, RngStream::PairNoise);
+  const bool uniform = kind == NoiseKind::Uniform;
+  xi = uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
+  const double e = uniform ? uniform_unit_variance(r.v[2]) : gaussian_unit(r.v[2], r.v[3]);
+  xe = id_a < id_b ? e : -e;
+}
+
 }  // namespace mesodpd

@@ -41,7 +41,18 @@ __global__ void pair_law_kernel(const typename Law::template Params<Real>* param
     in.rho_i = static_cast<Real>(rho[2 * k]);
     in.rho_j = static_cast<Real>(rho[2 * k + 1]);
   }
+  if constexpr (law_has_temperature<Law>) {  // eDPD: both temperatures (here in rho's place), the heat noise
+    double xi = 0, xe = 0;
+    pair_noise_with_antisymmetric(seed, step, ids[2 * k], ids[2 * k + 1], NoiseKind::Uniform, xi, xe);
+    in.xe = static_cast<Real>(xe);
+    in.ti = static_cast<Real>(rho[2 * k]);
+    in.tj = static_cast<Real>(rho[2 * k + 1]);
+  }
   const PairForceT<Real> f = Eval{}(params[k], in);
+  if constexpr (law_has_temperature<Law>) {
+    force_out[3 * n + 2 * k] = to_fixed(static_cast<double>(f.qi), kForceScale);
+    force_out[3 * n + 2 * k + 1] = to_fixed(static_cast<double>(f.qj), kForceScale);
+  }
   const PairForceVector fv = pair_force_vector(f, inv_r, dx, dy, dz);
   const PairForceFixed q = to_fixed(fv);
   force_out[3 * k] = q.x;

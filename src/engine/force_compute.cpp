@@ -248,9 +248,12 @@ inline void for_each_pair_params(const PairBatch& b, std::size_t m, const Params
 //   evaluate(b, m, local)  fills b.qx (.qy, .qz) for batch entries [0, m) and adds to the sums.
 
 // A force law `Eval` of law `Law` (physics/*.hpp).
+// A law with per-particle temperatures (kTemperature, eDPD) adds a fourth component, the temperature
+// rate, which is not antisymmetric: the pair's contributions to i and j come separately (qhi, qhj).
 template <class Law, class Eval, bool kSums>
 struct ForcePass {
-  static constexpr int kComponents = 3;
+  static constexpr bool kTemperature = law_has_temperature<Law>;
+  static constexpr int kComponents = kTemperature ? 4 : 3;
   static constexpr bool kSymmetric = false;
   static constexpr bool kVelocity = Law::kVelocity;
   static constexpr bool kNoise = Law::kNoise;
@@ -278,7 +281,16 @@ struct ForcePass {
         in.rho_i = static_cast<PairReal>(rho[b.i[k]]);
         in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
       }
+      if constexpr (kTemperature) {
+        in.ti = static_cast<PairReal>(b.it[k]);
+        in.tj = static_cast<PairReal>(b.jt[k]);
+        in.xe = b.xe[k];
+      }
       const PairForceT<PairReal> f = eval(pp, in);
+      if constexpr (kTemperature) {
+        b.hi[k] = f.qi;
+        b.hj[k] = f.qj;
+      }
       const PairForceVector fv = pair_force_vector(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
       if constexpr (!kSums) {
         // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
@@ -309,6 +321,12 @@ struct ForcePass {
       }
     };
     for_each_pair_params(b, m, params, ns, species, pair);
+    if constexpr (kTemperature) {
+      bool out = to_fixed_array(b.hi, b.qhi, m, kForceScale, fixed_limit);
+      out |= to_fixed_array(b.hj, b.qhj, m, kForceScale, fixed_limit);
+      if (out) [[unlikely]]
+        note_overflow_in(b, m, kForceScale, fixed_limit, ids, b.hi, b.hj, nullptr, FixedPointOverflow::What::PairForce);
+    }
     if constexpr (!kSums) {
       bool out = to_fixed_array(b.fx, b.qx, m, kForceScale, fixed_limit);
       out |= to_fixed_array(b.fy, b.qy, m, kForceScale, fixed_limit);
@@ -323,6 +341,7 @@ struct ForcePass {
 template <class Kernel>
 struct DensityPass {
   static constexpr int kComponents = 1;
+  static constexpr bool kTemperature = false;
   static constexpr bool kSymmetric = true;
   static constexpr bool kVelocity = false;
   static constexpr bool kNoise = false;
@@ -359,6 +378,7 @@ struct BatchGeometry {
   std::uint64_t seed;
   NoiseKind kind;
   std::uint64_t step;
+  const double* temp;  // internal temperatures (p.temp) for passes with kTemperature, else nullptr
 };
 
 // Moves the batch's out-of-range pair (PairBatch::overflow) into `found`, which keeps the pair with the
@@ -414,6 +434,7 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
       b.jvz[k] = vz[j];
     }
     if constexpr (Pass::kNoise) b.jid[k] = id[j];
+    if constexpr (Pass::kTemperature) b.jt[k] = g.temp[j];
   }
   // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
   for (std::size_t k = 0; k < m; ++k) {
@@ -437,8 +458,16 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
                   inv_r;
     }
   }
-  // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution.
-  if constexpr (Pass::kNoise) {
+  // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution; with temperatures also
+  // the antisymmetric heat noise from the same draw.
+  if constexpr (Pass::kTemperature) {
+    for (std::size_t k = 0; k < m; ++k) {
+      double xi, xe;
+      pair_noise_with_antisymmetric(seed, step, b.iid[k], b.jid[k], kind, xi, xe);
+      b.xi[k] = static_cast<PairReal>(xi);
+      b.xe[k] = static_cast<PairReal>(xe);
+    }
+  } else if constexpr (Pass::kNoise) {
     if (kind == NoiseKind::Uniform) {
 #if MESODPD_VECTOR_NOISE
       uniform_noise_array(b.iid, b.jid, b.xi, m, seed, step);
@@ -509,6 +538,10 @@ class BatchAccumulator {
     const auto px = hn::Set(dd, geo_.x[i]), py = hn::Set(dd, geo_.y[i]), pz = hn::Set(dd, geo_.z[i]);
     const auto pvx = hn::Set(dd, geo_.vx[i]), pvy = hn::Set(dd, geo_.vy[i]), pvz = hn::Set(dd, geo_.vz[i]);
     const auto pi = hn::Set(du, i), pid = hn::Set(du, geo_.id[i]);
+    if constexpr (Pass::kTemperature) {
+      const auto pt = hn::Set(dd, geo_.temp[i]);
+      for (std::size_t k = m0; k < m; k += nd) hn::StoreU(pt, dd, b.it + k);
+    }
     for (std::size_t k = m0; k < m; k += nd) {
       hn::StoreU(px, dd, b.ix + k);
       hn::StoreU(py, dd, b.iy + k);
@@ -533,7 +566,28 @@ class BatchAccumulator {
       take_batch_overflow(b, pass_.fixed_limit, overflow_);
     // Pass 4: scatter. The pairs of one particle i are consecutive in the batch, so i's share is
     // summed in registers and added once per run.
-    if constexpr (C == 3) {
+    if constexpr (C == 4) {
+      // Forces as below; the temperature rates of i and j each to their own particle.
+      for (std::size_t k = 0; k < m;) {
+        const std::size_t i = b.i[k];
+        std::int64_t sx = 0, sy = 0, sz = 0, sh = 0;
+        for (; k < m && b.i[k] == i; ++k) {
+          const std::size_t j = b.j[k];
+          sx += b.qx[k];
+          sy += b.qy[k];
+          sz += b.qz[k];
+          sh += b.qhi[k];
+          buf[4 * j] -= b.qx[k];
+          buf[4 * j + 1] -= b.qy[k];
+          buf[4 * j + 2] -= b.qz[k];
+          buf[4 * j + 3] += b.qhj[k];
+        }
+        buf[4 * i] += sx;
+        buf[4 * i + 1] += sy;
+        buf[4 * i + 2] += sz;
+        buf[4 * i + 3] += sh;
+      }
+    } else if constexpr (C == 3) {
       for (std::size_t k = 0; k < m;) {
         const std::size_t i = b.i[k];
         std::int64_t sx = 0, sy = 0, sz = 0;
@@ -828,10 +882,11 @@ void reduce_thread_buffers(PairWorkspace& ws, int nthreads, std::size_t n, std::
           bu[C * i + q] = 0;
         }
       }
-      if constexpr (C == 3) {
+      if constexpr (C >= 3) {
         p.fx[i] = static_cast<double>(s[0]) * kForceUnscale;
         p.fy[i] = static_cast<double>(s[1]) * kForceUnscale;
         p.fz[i] = static_cast<double>(s[2]) * kForceUnscale;
+        if constexpr (C == 4) p.temp_rate[i] = static_cast<double>(s[C - 1]) * kForceUnscale;
       } else {
         out[i] = static_cast<double>(s[0]) * kForceUnscale;
       }
@@ -868,7 +923,8 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
                           p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
                           box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
-                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step};
+                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
+                          Pass::kTemperature ? p.temp.data() : nullptr};
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
@@ -898,6 +954,9 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
 // results subtracted. Serial; the lists are short (bonded pairs).
 template <class Pass, bool kSums>
 void run_listed(PairJob& job, const Pass& pass) {
+  // Listed pairs subtract forces only (3 integers per particle); laws with temperatures are refused
+  // with bonds.exclude by the spec's checks.
+  if constexpr (Pass::kTemperature) throw std::logic_error("ForceCompute::subtract_pairs: not for a law with temperatures");
   const ParticleData& p = *job.p;
   const Box& box = *job.box;
   PairWorkspace& ws = *job.ws;
@@ -906,7 +965,8 @@ void run_listed(PairJob& job, const Pass& pass) {
   const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
                           p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
                           box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
-                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step};
+                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
+                          Pass::kTemperature ? p.temp.data() : nullptr};
   std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::int64_t* f = job.subtract_into;
   for (std::size_t k0 = 0; k0 < job.n_pairs; k0 += PairBatch::kCapacity) {
@@ -1097,17 +1157,22 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
   job.ws = ws_.get();
   job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
   job.exchange = halo != nullptr && halo->active();
+  const bool temperature = std::visit([](const auto& t) { return law_has_temperature<typename std::decay_t<decltype(t)>::LawType>; }, laws_);
+  if (temperature && (!p.enabled("temp") || !p.enabled("temp_rate")))
+    throw std::logic_error("ForceCompute::compute: this pair law reads temperatures; enable p.temp and p.temp_rate");
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
   note(job.overflow);
   const std::size_t n = p.n_local;
   if (p.n_ghost > 0 || job.exchange) {
     std::int64_t* fixed = ws_->fixed.data();
-    if (halo != nullptr) halo->reverse_forces(fixed, p);
+    const int c = temperature ? 4 : 3;
+    if (halo != nullptr) halo->reverse_sums(fixed, c, p);
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      p.fx[i] = static_cast<double>(fixed[3 * i]) * kForceUnscale;
-      p.fy[i] = static_cast<double>(fixed[3 * i + 1]) * kForceUnscale;
-      p.fz[i] = static_cast<double>(fixed[3 * i + 2]) * kForceUnscale;
+      p.fx[i] = static_cast<double>(fixed[c * i]) * kForceUnscale;
+      p.fy[i] = static_cast<double>(fixed[c * i + 1]) * kForceUnscale;
+      p.fz[i] = static_cast<double>(fixed[c * i + 2]) * kForceUnscale;
+      if (temperature) p.temp_rate[i] = static_cast<double>(fixed[c * i + 3]) * kForceUnscale;
     }
   }
   if (with_sums) {

@@ -44,6 +44,12 @@ struct PairBatch {
   alignas(64) std::int64_t qx[kCapacity];
   alignas(64) std::int64_t qy[kCapacity];
   alignas(64) std::int64_t qz[kCapacity];
+  // Laws with per-particle temperatures (kTemperature): both temperatures, the antisymmetric heat noise,
+  // the temperature rates of i and j in double and in fixed point.
+  alignas(64) double it[kCapacity + kSlack], jt[kCapacity + kSlack];
+  alignas(64) PairReal xe[kCapacity];
+  alignas(64) double hi[kCapacity], hj[kCapacity];
+  alignas(64) std::int64_t qhi[kCapacity], qhj[kCapacity];
   // Candidates of the current cell, nearest-image coordinates relative to a particle of the cell.
   std::vector<PairReal> cand_x, cand_y, cand_z;
   std::vector<std::uint32_t> cand_j;
@@ -65,7 +71,7 @@ struct PairWorkspace {
 };
 
 // One pair computation. Forces: `laws` set, results in p.f{x,y,z} (no ghosts) or `ws->fixed` (3 per
-// particle). Density: `density` set, results in `out` (no ghosts) or `ws->fixed` (1 per particle).
+// particle; 4 for a law with temperatures, whose rates go to p.temp_rate). Density: `density` set, results in `out` (no ghosts) or `ws->fixed` (1 per particle).
 struct PairJob {
   ParticleData* p = nullptr;
   const Box* box = nullptr;

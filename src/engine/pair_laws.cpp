@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace mesodpd {
 
 namespace {
-// Fills a dense table from the spec's resolved species pairs with `make(pair)`; `range(pair)` is the
-// pair's interaction range.
+// Fills a dense table from the spec's resolved species pairs with `make(pair)`, or `make(pair, a, b)`
+// where the entry's species order matters (a law's species values: entry (a, b) has species a as i);
+// `range(pair)` is the pair's interaction range.
 template <class Params, class Make, class Range>
 PairTable<Params> fill_table(const SimulationSpec& spec, Make&& make, Range&& range) {
   PairTable<Params> t;
@@ -17,7 +19,11 @@ PairTable<Params> fill_table(const SimulationSpec& spec, Make&& make, Range&& ra
   t.params.resize(static_cast<std::size_t>(t.n_species * t.n_species));
   for (int a = 0; a < t.n_species; ++a)
     for (int b = 0; b < t.n_species; ++b) {
-      const Params q = make(spec.pair(a, b));
+      Params q;
+      if constexpr (std::is_invocable_v<Make, const PairSpec&, int, int>)
+        q = make(spec.pair(a, b), a, b);
+      else
+        q = make(spec.pair(a, b));
       t.params[static_cast<std::size_t>(a * t.n_species + b)] = q;
       t.max_cutoff = std::max(t.max_cutoff, range(spec.pair(a, b)));
     }
@@ -41,6 +47,10 @@ void add_infos(std::vector<PairLawInfo>& out) {
     }
     info.own.assign(Law::kOwn.begin(), Law::kOwn.end());
     static_assert(Law::kOwn.size() <= PairValues::kMaxOwn, "more own keys than PairValues holds");
+    constexpr auto species_keys = law_species_keys<Law>();
+    static_assert(species_keys.size() <= PairValues::kMaxSpeciesOwn, "more species keys than PairValues holds");
+    info.species_own.assign(species_keys.begin(), species_keys.end());
+    info.temperature = law_has_temperature<Law>;
     info.min_a = Law::kMinA;
     info.noise = Law::kNoise;
     info.density = Law::kDensity;
@@ -58,7 +68,7 @@ PairLawTables make_law_tables(const SimulationSpec& spec) {
     if (static_cast<std::size_t>(spec.pair_style) == I) {
       using Law = typename std::variant_alternative_t<I, PairLawTables>::LawType;
       return LawTable<Law>{fill_table<typename Law::template Params<double>>(
-          spec, [&](const PairSpec& ps) { return Law::make(pair_values(ps, spec.pair_style, spec.kT)); },
+          spec, [&](const PairSpec& ps, int a, int b) { return Law::make(pair_values(ps, spec, a, b)); },
           [&](const PairSpec& ps) { return pair_range(ps, spec.pair_style); })};
     }
     return make_law_tables<I + 1>(spec);
@@ -77,7 +87,8 @@ const std::vector<PairLawInfo>& pair_law_infos() {
   return infos;
 }
 
-PairValues pair_values(const PairSpec& ps, PairStyle style, double kT) {
+namespace {
+PairValues values_of(const PairSpec& ps, PairStyle style, double kT) {
   PairValues v;
   v.a = ps.a;
   v.gamma = ps.gamma;
@@ -87,10 +98,35 @@ PairValues pair_values(const PairSpec& ps, PairStyle style, double kT) {
   v.s = ps.s;
   const PairLawInfo& law = pair_law(style);
   for (std::size_t k = 0; k < law.own.size(); ++k) v.own[k] = ps.value(law.own[k].name);
+  v.kT = kT;
+  return v;
+}
+}  // namespace
+
+PairValues pair_values(const PairSpec& ps, const SimulationSpec& spec, int species_i, int species_j) {
+  PairValues v = values_of(ps, spec.pair_style, spec.kT);
+  const PairLawInfo& law = pair_law(spec.pair_style);
+  const auto n = static_cast<int>(spec.species.size());
+  const int a = species_i >= 0 ? species_i : ps.i, b = species_j >= 0 ? species_j : ps.j;
+  if (a < n && b < n) {
+    const SpeciesSpec& si = spec.species[static_cast<std::size_t>(a)];
+    const SpeciesSpec& sj = spec.species[static_cast<std::size_t>(b)];
+    v.mass_i = si.mass;
+    v.mass_j = sj.mass;
+    for (std::size_t k = 0; k < law.species_own.size(); ++k) {
+      const auto of = [&](const SpeciesSpec& sp) {
+        const auto it = sp.own.find(law.species_own[k].name);
+        return it == sp.own.end() ? law.species_own[k].fallback : it->second;
+      };
+      v.species_i[k] = of(si);
+      v.species_j[k] = of(sj);
+    }
+  }
   return v;
 }
 
-double pair_range(const PairSpec& ps, PairStyle style) { return pair_law(style).range(pair_values(ps, style, 1.0)); }
+// The range reads none of the species values.
+double pair_range(const PairSpec& ps, PairStyle style) { return pair_law(style).range(values_of(ps, style, 1.0)); }
 
 namespace {
 // `"dpd"`, `"soft"`: styles whose law passes `pred`.
@@ -102,9 +138,12 @@ std::string styles_where(Pred&& pred) {
   return out;
 }
 
-keys::KeyDoc own_row(const LawKey& k) {
+// The row of a law key of the list `which` (the [pair] keys or the [[species]] keys), marked with the
+// styles that declare it.
+keys::KeyDoc own_row(const LawKey& k, std::vector<LawKey> PairLawInfo::*which = &PairLawInfo::own) {
   const std::string users = styles_where([&](const PairLawInfo& law) {
-    return std::any_of(law.own.begin(), law.own.end(), [&](const LawKey& o) { return o.name == k.name; });
+    const std::vector<LawKey>& list = law.*which;
+    return std::any_of(list.begin(), list.end(), [&](const LawKey& o) { return o.name == k.name; });
   });
   const keys::Range r{k.lo, k.hi, k.lo_closed, k.hi_closed};
   return {std::string(k.name), "number", k.required ? "none" : keys::doc_number(k.fallback), r.doc(),
@@ -156,6 +195,18 @@ std::vector<keys::KeyDoc> pair_key_docs() {
   return rows;
 }
 
+std::vector<keys::KeyDoc> pair_species_key_docs() {
+  std::vector<keys::KeyDoc> rows;
+  std::vector<std::string_view> seen;
+  for (const PairLawInfo& law : pair_law_infos())
+    for (const LawKey& k : law.species_own)
+      if (std::find(seen.begin(), seen.end(), k.name) == seen.end()) {
+        seen.push_back(k.name);
+        rows.push_back(own_row(k, &PairLawInfo::species_own));
+      }
+  return rows;
+}
+
 std::vector<keys::KeyDoc> pair_override_key_docs() {
   std::vector<keys::KeyDoc> rows;
   rows.push_back({"species", "array of 2 strings", "required", "defined species names",
@@ -169,7 +220,7 @@ std::vector<keys::KeyDoc> pair_override_key_docs() {
 
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec) {
   return fill_table<DpdPairParams>(
-      spec, [&](const PairSpec& ps) { return DpdLaw::make(pair_values(ps, PairStyle::Dpd, spec.kT)); },
+      spec, [&](const PairSpec& ps) { return DpdLaw::make(values_of(ps, PairStyle::Dpd, spec.kT)); },
       [](const PairSpec& ps) { return pair_range(ps, PairStyle::Dpd); });
 }
 

@@ -77,8 +77,10 @@ struct PairLawInfo {
   std::vector<std::string_view> shared;                   // the shared keys it reads
   std::vector<std::pair<std::string_view, std::string_view>> required;  // shared keys it requires, with hints
   std::vector<LawKey> own;
+  std::vector<LawKey> species_own;                        // its [[species]] keys (kSpeciesOwn)
   double min_a = 0;                                       // the lowest a allowed
   bool noise = true, density = false;                     // kNoise, kDensity
+  bool temperature = false;                               // kTemperature (per-particle temperatures)
   double (*range)(const PairValues&) = nullptr;
   LawProblem (*problem)(const PairValues&) = nullptr;
 };
@@ -86,15 +88,19 @@ struct PairLawInfo {
 const std::vector<PairLawInfo>& pair_law_infos();
 inline const PairLawInfo& pair_law(PairStyle style) { return pair_law_infos().at(static_cast<std::size_t>(style)); }
 
-// A resolved species pair as the law of `style` reads it (its own keys in the order it declares them;
-// sigma = sqrt(2 gamma kT), seed 000 Eq. 7).
-PairValues pair_values(const PairSpec& ps, PairStyle style, double kT);
+// A resolved species pair of a validated spec as the spec's law reads it (its own keys in the order it
+// declares them; sigma = sqrt(2 gamma kT), seed 000 Eq. 7), with the masses and species keys of the
+// table entry's species i and j (by default ps.i and ps.j; the entry (b, a) of a pair a < b has them
+// the other way round).
+PairValues pair_values(const PairSpec& ps, const SimulationSpec& spec, int species_i = -1, int species_j = -1);
 // The distance beyond which the pair does not interact under `style`.
 double pair_range(const PairSpec& ps, PairStyle style);
 
 // The rows of the [pair] and [[pair.override]] key tables of docs/config.md: the style, the shared keys,
 // every law's own keys (each marked with the styles that read it), kernel and mixing.
 std::vector<keys::KeyDoc> pair_key_docs();
+// The rows of the laws' [[species]] keys (each marked with the styles that read it).
+std::vector<keys::KeyDoc> pair_species_key_docs();
 std::vector<keys::KeyDoc> pair_override_key_docs();
 
 // A density kernel and its per-species-pair range, for ForceCompute::compute_density.

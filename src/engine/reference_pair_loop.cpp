@@ -119,8 +119,9 @@ void reference_pairs(const ParticleData& p, const Box& box, double cutoff, bool 
 
 void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
                       std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
-                      const double* rho) {
+                      const double* rho, std::vector<double>* rate) {
   std::vector<std::array<std::int64_t, 3>> q(p.n_local, {0, 0, 0});
+  std::vector<std::int64_t> qh(p.n_local, 0);  // temperature rates (laws with kTemperature)
   std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::visit(
       [&](const auto& lt) {
@@ -135,13 +136,21 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
             PairInput<double> in;
             in.r = r;
             in.rv = (dx * (p.vx[i] - p.vx[j]) + dy * (p.vy[i] - p.vy[j]) + dz * (p.vz[i] - p.vz[j])) * inv_r;
-            in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
             in.inv_sqrt_dt = 1.0 / std::sqrt(dt);
             if (rho != nullptr) {
               in.rho_i = rho[i];
               in.rho_j = rho[j];
             }
+            if constexpr (law_has_temperature<Law>) {
+              pair_noise_with_antisymmetric(noise.seed, step, p.id[i], p.id[j], noise.kind, in.xi, in.xe);
+              in.ti = p.temp[i];
+              in.tj = p.temp[j];
+            } else {
+              in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
+            }
             const PairForceT<double> pf = eval(pp, in);
+            qh[i] += to_fixed(pf.qi, kForceScale);
+            qh[j] += to_fixed(pf.qj, kForceScale);
             const PairForceVector fv = pair_force_vector(pf, inv_r, dx, dy, dz);
             const PairForceFixed fq = to_fixed(fv);
             q[i][0] += fq.x;
@@ -158,6 +167,10 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
   f.assign(p.n_local, {0.0, 0.0, 0.0});
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t c = 0; c < 3; ++c) f[i][c] = static_cast<double>(q[i][c]) * kForceUnscale;
+  if (rate != nullptr) {
+    rate->assign(p.n_local, 0.0);
+    for (std::size_t i = 0; i < p.n_local; ++i) (*rate)[i] = static_cast<double>(qh[i]) * kForceUnscale;
+  }
   for (std::size_t c = 0; c < 6; ++c) sums.virial[c] = static_cast<double>(total[c]) * kVirialUnscale;
   sums.virial_conservative = static_cast<double>(total[6]) * kVirialUnscale;
   sums.potential_energy = static_cast<double>(total[7]) * kVirialUnscale;
@@ -183,6 +196,10 @@ void for_each_conservative_pair(const ParticleData& p, const Box& box, const Pai
             if (rho != nullptr) {
               in.rho_i = rho[i];
               in.rho_j = rho[j];
+            }
+            if (!p.temp.empty()) {  // a law with temperatures (its conservative amplitude may depend on them)
+              in.ti = p.temp[i];
+              in.tj = p.temp[j];
             }
             visit(i, j, dx, dy, dz, r, eval(lt.table(p.species[i], p.species[j]), in).fc);
           });

@@ -25,10 +25,11 @@ void reference_pairs(const ParticleData& p, const Box& box, double cutoff, bool 
 
 // Pair forces on the local particles of `p` (a single domain, no ghosts) at step `step`: writes f[i]
 // and the pair sums. Sums are accumulated per pair in the engine's fixed point, so in the double build
-// the fast loop must agree bit for bit. `rho` (one entry per particle) for laws with kDensity.
+// the fast loop must agree bit for bit. `rho` (one entry per particle) for laws with kDensity. For a law
+// with temperatures (kTemperature; p.temp enabled), `rate` (if given) receives dT_i/dt.
 void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
                       std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
-                      const double* rho = nullptr);
+                      const double* rho = nullptr, std::vector<double>* rate = nullptr);
 
 // w[i] = (1/2) sum over j != i of r_ij . F^C_ij (conservative forces only; seed 000 Eq. 24), half of each
 // pair's virial to each of its particles: the per-particle virial behind the local pressures of

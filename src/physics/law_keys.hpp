@@ -12,7 +12,8 @@
 
 namespace mesodpd {
 
-// One parameter key of a law, as written in [pair] or a [[pair.override]].
+// One parameter key of a law, as written in [pair] or a [[pair.override]] (or, for a species key, in a
+// [[species]] block).
 struct LawKey {
   std::string_view name;
   double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
@@ -29,11 +30,27 @@ inline constexpr std::array<std::string_view, 6> kSharedPairKeys{"a", "gamma", "
 
 // The values of one resolved species pair as a law reads them: the shared keys (sigma already follows
 // from gamma and kT, seed 000 Eq. 7; rd defaults to rc) and the law's own keys in the order of its kOwn.
+// Besides, the system's kT and, for the pair's two species i and j (in the order of the table entry),
+// their masses and the values of the law's species keys (kSpeciesOwn, read from [[species]]).
 struct PairValues {
   double a = 25, gamma = 4.5, sigma = 3, rc = 1, rd = 1, s = 2;
-  static constexpr std::size_t kMaxOwn = 8;
+  static constexpr std::size_t kMaxOwn = 16;
   std::array<double, kMaxOwn> own{};
+  double kT = 1;
+  double mass_i = 1, mass_j = 1;
+  static constexpr std::size_t kMaxSpeciesOwn = 4;
+  std::array<double, kMaxSpeciesOwn> species_i{}, species_j{};
 };
+
+// The species keys of a law (kSpeciesOwn: per-species values such as eDPD's heat capacity, written in
+// [[species]] blocks); none where the law declares none.
+template <class Law>
+constexpr auto law_species_keys() {
+  if constexpr (requires { Law::kSpeciesOwn; })
+    return Law::kSpeciesOwn;
+  else
+    return std::array<LawKey, 0>{};
+}
 
 // A check a law makes on one resolved pair: the key it is about and why (the schema adds the key's full
 // name, its value and the species pair).

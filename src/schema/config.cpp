@@ -87,13 +87,26 @@ void read_init(const Section& top, const fs::path& base_dir, SimulationSpec& spe
 
 ShapeSpec read_shape(const Section& s, const fs::path& base_dir);
 
+// The keys of a [[species]] block: the table's and every pair law's species keys (the style's law
+// refuses those it does not read, in validate()).
+std::vector<std::string_view> species_names() {
+  std::vector<std::string_view> names = species_keys().names();
+  for (const PairLawInfo& law : pair_law_infos())
+    for (const LawKey& k : law.species_own)
+      if (std::find(names.begin(), names.end(), k.name) == names.end()) names.push_back(k.name);
+  return names;
+}
+
 void read_species(const Section& top, const fs::path& base_dir, SimulationSpec& spec) {
-  const std::vector<Section> list = top.tables("species", species_keys().names());
+  const std::vector<std::string_view> names = species_names();
+  const std::vector<Section> list = top.tables("species", names);
   if (list.empty()) top.missing("species", " (at least one [[species]] block is needed)");
   const bool from_data = !spec.data_file.empty();
   for (const Section& s : list) {
     SpeciesSpec sp;
     read_keys(species_keys(), s, sp);
+    for (std::size_t k = species_keys().names().size(); k < names.size(); ++k)
+      if (const auto v = s.real(names[k])) sp.own.emplace(std::string(names[k]), *v);
     // Which keys go together depends on the other tables: a frozen species, a data file, molecules.
     if (sp.frozen) {
       // Frozen (wall) particles are made by freezing the fluid inside [[solid]] blocks.

@@ -55,8 +55,26 @@ const SimulationSpec* whole(const SimulationSpec& s) { return &s; }
 std::vector<DeclaredTable> declared_tables() {
   std::vector<DeclaredTable> out;
   out.push_back(one(system_keys(), whole));
-  out.push_back(each(species_keys(), +[](const SimulationSpec& s) -> const auto& { return s.species; },
-                     "name = \"A\"\ndensity = 3"));
+  {
+    // [[species]] blocks hold the table's keys and the pair laws' species keys (set where not a default).
+    DeclaredTable t = each(species_keys(), +[](const SimulationSpec& s) -> const auto& { return s.species; },
+                           "name = \"A\"\ndensity = 3");
+    for (keys::KeyDoc& row : pair_species_key_docs()) t.rows.push_back(std::move(row));
+    t.values = [](const SimulationSpec& spec) {
+      Values out;
+      const PairLawInfo& law = pair_law(spec.pair_style);
+      for (std::size_t k = 0; k < spec.species.size(); ++k) {
+        std::vector<std::string> set = species_keys().set_values(spec.species[k]);
+        for (const LawKey& key : law.species_own)
+          if (const auto it = spec.species[k].own.find(key.name);
+              it != spec.species[k].own.end() && (key.required || it->second != key.fallback))
+            set.push_back(std::string(key.name) + " = " + keys::doc_number(it->second));
+        out.emplace_back("species[" + std::to_string(k) + "]", std::move(set));
+      }
+      return out;
+    };
+    out.push_back(std::move(t));
+  }
   out.push_back({"pair", pair_key_docs()});
   out.push_back({"pair.override", pair_override_key_docs(), true, "species = [\"A\", \"A\"]"});
   out.push_back(one(integrator_keys(), whole));

@@ -109,6 +109,34 @@ bool valid_species_name(std::string_view name) {
   });
 }
 
+// The pair laws' [[species]] keys (kSpeciesOwn) of species k: ranges, refused where the style's law does
+// not read them, required ones present; then the law's defaults fill the rest.
+void validate_species_law_keys(std::size_t k, SpeciesSpec& sp, PairStyle style) {
+  const PairLawInfo& law = pair_law(style);
+  for (const auto& [name, value] : sp.own) {
+    const auto in = [&](const PairLawInfo& l) {
+      return std::any_of(l.species_own.begin(), l.species_own.end(), [&](const LawKey& key) { return key.name == name; });
+    };
+    if (!in(law)) {
+      std::string users;
+      for (const PairLawInfo& other : pair_law_infos())
+        if (in(other)) users += fmt::format("{}\"{}\"", users.empty() ? "" : ", ", other.style);
+      fail(species_key(k, name), show(value),
+           fmt::format("not used with pair.style = \"{}\" (only with pair.style = {})", law.style, users));
+    }
+    const LawKey& key = *std::find_if(law.species_own.begin(), law.species_own.end(),
+                                      [&](const LawKey& key) { return key.name == name; });
+    check(species_key(k, name), value, Range{key.lo, key.hi, key.lo_closed, key.hi_closed});
+  }
+  for (const LawKey& key : law.species_own) {
+    if (sp.own.count(key.name) > 0) continue;
+    if (key.required)
+      fail(species_key(k, key.name), "",
+           fmt::format("missing: pair.style = \"{}\" needs {} for every species (no default)", law.style, key.hint));
+    sp.own[std::string(key.name)] = key.fallback;
+  }
+}
+
 void validate_species(SimulationSpec& spec) {
   if (spec.species.empty()) fail("species", "", "at least one [[species]] block is needed");
   const Mixing mixing = spec.pair_section.mixing;
@@ -122,6 +150,7 @@ void validate_species(SimulationSpec& spec) {
       if (spec.species[prev].name == sp.name)
         fail(species_key(k, "name"), show(sp.name), fmt::format("duplicate species name (also species[{}].name)", prev));
     species_keys().check(fmt::format("species[{}]", k), sp);
+    validate_species_law_keys(k, sp, spec.pair_style);
     if (mixing == Mixing::Geometric && !sp.a)
       fail(species_key(k, "a"), "", "missing: pair.mixing = \"geometric\" needs a for every species");
     if (mixing == Mixing::Explicit && sp.a)
@@ -288,7 +317,7 @@ void validate_pairs(SimulationSpec& spec) {
         p.own[std::string(key.name)] = v ? *v : key.fallback;
       }
       // The law's own checks on the resolved pair.
-      const LawProblem problem = law.problem(pair_values(p, spec.pair_style, spec.kT));
+      const LawProblem problem = law.problem(pair_values(p, spec));
       if (problem.why) {
         const bool shared =
             std::find(kSharedPairKeys.begin(), kSharedPairKeys.end(), problem.key) != kSharedPairKeys.end();
