@@ -11,6 +11,7 @@
 
 namespace mesodpd {
 
+void install_edpd(Installation& in);             // pair.style = "edpd": internal temperatures
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -40,7 +41,8 @@ std::vector<std::pair<Model, std::string>>& registered() {
 }  // namespace
 
 std::vector<Model> models() {
-  std::vector<Model> list{{"external_fields", install_external_fields, {}},
+  std::vector<Model> list{{"edpd", install_edpd, {}},
+                          {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},
                           {"thermo", install_thermo, {}},

@@ -14,6 +14,7 @@
 #include "physics/density_kernel.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/edpd_pair.hpp"
 #include "physics/mdpd_pair.hpp"
 #include "physics/pair_table.hpp"
 #include "physics/soft_pair.hpp"
@@ -68,7 +69,8 @@ struct LawTable {
 // one list of pair laws. The schema takes the style names and keys from it. A law appended here needs
 // no enumerator in PairStyle: the index is its style.
 using PairLawTables =
-    std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw> MESODPD_EXTRA_PAIR_LAWS>;
+    std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>,
+                 LawTable<EdpdLaw> MESODPD_EXTRA_PAIR_LAWS>;
 inline constexpr std::size_t kPairLawCount = std::variant_size_v<PairLawTables>;
 
 // What one law of the list declares (physics/law_keys.hpp), without its type: for the schema.

@@ -44,6 +44,14 @@ ParticleData random_particles(const Box& box, std::size_t n, int species, std::u
   return p;
 }
 
+// The style of the law named `name` (laws appended to the list have no PairStyle enumerator).
+PairStyle style_named(std::string_view name) {
+  const std::vector<PairLawInfo>& infos = pair_law_infos();
+  for (std::size_t k = 0; k < infos.size(); ++k)
+    if (infos[k].style == name) return static_cast<PairStyle>(k);
+  throw std::invalid_argument("no pair law named " + std::string(name));
+}
+
 // Three species with different parameters for every pair (cutoffs 0.8 to 1.2).
 SimulationSpec three_species(PairStyle style, double s) {
   SimulationSpec spec;
@@ -79,7 +87,33 @@ SimulationSpec three_species(PairStyle style, double s) {
       ps.own["attraction"] = 0.9 + 0.05 * k;
       ps.own["rc2"] = rc[k];
     }
+    if (pair_law(style).temperature) {
+      // eDPD: conduction over its own cutoff (the pair's rc for one pair), a temperature-dependent
+      // amplitude for some pairs; species with different heat capacities and masses.
+      ps.own["kappa"] = 2e-3 * (k + 1);
+      ps.own["rct"] = k == 2 ? 0.0 : 0.85 + 0.05 * k;
+      ps.own["st"] = k == 4 ? 1.5 : 2.0;
+      ps.own["a_t"] = k % 2 == 0 ? 1.0 : 0.0;
+      ps.own["kappa_t1"] = 0.1 * k;
+      ps.own["kappa_t2"] = -0.05;
+    }
     spec.pairs.push_back(ps);
+  }
+  if (pair_law(style).temperature)
+    for (std::size_t k = 0; k < spec.species.size(); ++k) {
+      spec.species[k].own["cv"] = 100.0 + 50.0 * static_cast<double>(k);
+      spec.species[k].own["temperature"] = 0.0;
+      spec.species[k].mass = 1.0 + 0.25 * static_cast<double>(k);
+    }
+  return spec;
+}
+
+// eDPD with a temperature-dependent exponent s(T) (the general pow form for every pair).
+SimulationSpec edpd_with_s_of_t() {
+  SimulationSpec spec = three_species(style_named("edpd"), 2.0);
+  for (PairSpec& ps : spec.pairs) {
+    ps.own["s_t1"] = 0.3;
+    ps.own["s_t3"] = -0.1;
   }
   return spec;
 }
@@ -126,7 +160,10 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
                                       {"mdpd warren", mdpd_species(DensityKernelChoice::Warren, 2.0)},
                                       {"mdpd lucy s=1", mdpd_species(DensityKernelChoice::Lucy, 1.0)},
                                       {"spline", three_species(PairStyle::Spline, 2.0)},
-                                      {"spline s=1/2", three_species(PairStyle::Spline, 0.5)}};
+                                      {"spline s=1/2", three_species(PairStyle::Spline, 0.5)},
+                                      {"edpd", three_species(style_named("edpd"), 2.0)},
+                                      {"edpd s=1/2", three_species(style_named("edpd"), 0.5)},
+                                      {"edpd s(T)", edpd_with_s_of_t()}};
   std::uint64_t seed = 11;
   int compared = 0;
   std::string names;
@@ -136,6 +173,14 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
     const std::optional<DensitySettings> density = make_density_settings(lc.spec);
     for (NoiseKind noise : {NoiseKind::Uniform, NoiseKind::Gaussian}) {
       ParticleData start = random_particles(box, 1100, 3, seed++);
+      const bool temperature = pair_law(lc.spec.pair_style).temperature;
+      if (temperature) {  // internal temperatures from 0.6 to 1.8
+        start.enable("temp");
+        start.enable("temp_rate");
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> t(0.6, 1.8);
+        for (std::size_t i = 0; i < start.n_local; ++i) start.temp[i] = t(rng);
+      }
       for (double skin : {0.0, 0.3}) {  // cell pairs, Verlet list
         for (std::int64_t target : simd_targets()) {
           hwy::SetSupportedTargetsForTest(target);
@@ -153,11 +198,15 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
             PairSums sums;
             fc.compute(p, box, list, 17, 0.04, false, sums, nullptr, density ? rho.data() : nullptr);
             const std::vector<double> fx_plain = p.fx, fy_plain = p.fy, fz_plain = p.fz;
+            const std::vector<double> rate_plain = p.temp_rate;
             fc.compute(p, box, list, 17, 0.04, true, sums, nullptr, density ? rho.data() : nullptr);
             EXPECT_TRUE(fx_plain == p.fx && fy_plain == p.fy && fz_plain == p.fz);
+            EXPECT_TRUE(rate_plain == p.temp_rate);
             std::vector<std::array<double, 3>> f;
             PairSums ref;
-            reference_forces(p, box, laws, NoiseSettings{99, noise}, 17, 0.04, f, ref, density ? rho.data() : nullptr);
+            std::vector<double> rate;
+            reference_forces(p, box, laws, NoiseSettings{99, noise}, 17, 0.04, f, ref, density ? rho.data() : nullptr,
+                             &rate);
             const std::string what = lc.name + (noise == NoiseKind::Uniform ? " uniform" : " gaussian") +
                                      " skin " + std::to_string(skin) + " " + hwy::TargetName(target) + " threads " +
                                      std::to_string(threads);
@@ -170,6 +219,15 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
               total[0] += p.fx[i];
               total[1] += p.fy[i];
               total[2] += p.fz[i];
+              if (temperature) {
+                expect_close(p.temp_rate[i], rate[i], what + " dT/dt of id " + std::to_string(p.id[i]));
+                ASSERT_TRUE(std::isfinite(p.temp_rate[i])) << what;
+              }
+            }
+            if (temperature) {  // the rates are not all zero: the test compares something
+              double largest = 0;
+              for (const double r : rate) largest = std::max(largest, std::abs(r));
+              EXPECT_GT(largest, 1e-3) << what;
             }
             // Fixed-point sums: the pair forces cancel exactly (Newton's third law, momentum conserved).
             EXPECT_EQ(total[0], 0.0) << what;
