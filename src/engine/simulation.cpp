@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <bit>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -559,16 +560,24 @@ ThermoState Simulation::thermo() {
   if (!sums_valid_) {
     // Pair sums of the current state. The forces the next step integrates with were evaluated at the
     // integrator's predicted velocities, which are gone: a recomputation from the end-of-step velocities
-    // would differ, so they are put back and sampling does not change the trajectory.
-    thermo_forces_[0] = p_.fx;
-    thermo_forces_[1] = p_.fy;
-    thermo_forces_[2] = p_.fz;
+    // would differ, so every field the force stage writes (kForce: the forces, eDPD's temperature
+    // rates) is put back and sampling does not change the trajectory.
+    std::size_t k = 0;
+    p_.for_each_field([&](const FieldInfo& info, auto& v) {
+      if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, double>)
+        if (info.flags & field::kForce) {
+          if (thermo_forces_.size() <= k) thermo_forces_.emplace_back();
+          thermo_forces_[k++] = v;
+        }
+    });
     const double* rho = compute_density();  // positions unchanged: the same densities as the step's
     forces_->compute(p_, box_, nlist_, step_, spec_.dt, true, sums_, &halo_, rho);
     add_bonded_forces(true);
-    thermo_forces_[0].swap(p_.fx);
-    thermo_forces_[1].swap(p_.fy);
-    thermo_forces_[2].swap(p_.fz);
+    k = 0;
+    p_.for_each_field([&](const FieldInfo& info, auto& v) {
+      if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, double>)
+        if (info.flags & field::kForce) thermo_forces_[k++].swap(v);
+    });
     sums_valid_ = true;
   }
   std::vector<std::uint8_t> frozen;

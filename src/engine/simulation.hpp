@@ -169,7 +169,7 @@ class Simulation {
   std::optional<DensitySettings> density_;  // the law's density pass (many-body DPD), if any
   std::vector<double> rho_;                 // local densities of locals and ghosts from that pass
   PairSums sums_;
-  std::array<std::vector<double>, 3> thermo_forces_;  // the step's forces, kept while thermo() recomputes
+  std::vector<std::vector<double>> thermo_forces_;  // the step's kForce fields, kept while thermo() recomputes
   bool sums_valid_ = false;
   double bonded_seconds_ = 0;  // wall time in BondedForces::compute (run summary)
   // Multiple time stepping (bonds.subcycles > 1): the bonded force on each local particle at the
