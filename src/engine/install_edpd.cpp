@@ -42,7 +42,7 @@ EdpdSpecies species_values(const SimulationSpec& spec) {
   for (const SpeciesSpec& sp : spec.species) {
     s.cv.push_back(sp.own.at("cv"));
     const double t = sp.own.at("temperature");
-    s.start.push_back(t > 0 ? t : spec.kT);
+    s.start.push_back(t > 0 ? t : spec.kT);  // a frozen species keeps it (half_step skips frozen particles)
     s.frozen.push_back(sp.frozen ? 1 : 0);
   }
   return s;
@@ -79,15 +79,8 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
 void install_edpd(Installation& in) {
   const SimulationSpec& spec = in.spec;
   if (!pair_law(spec.pair_style).temperature) return;
-  // Not yet with eDPD (each a clear refusal rather than wrong physics): walls (the heat a frozen particle
-  // takes or gives has no model yet), bonded exclusions (they subtract forces only, not heat), and the
-  // Euler integrator (the temperature step is the velocity-Verlet one).
-  for (std::size_t k = 0; k < spec.species.size(); ++k)
-    if (spec.species[k].frozen)
-      throw ConfigError(fmt::format("species[{}].frozen: frozen (wall) species are not yet supported with pair.style = "
-                                    "\"edpd\" (thermal walls are planned)",
-                                    k),
-                        fmt::format("species[{}].frozen", k));
+  // Not yet with eDPD (each a clear refusal rather than wrong physics): bonded exclusions (they subtract
+  // forces only, not heat) and the Euler integrator (the temperature step is the velocity-Verlet one).
   if (spec.bond_exclusion != BondExclusion::None)
     throw ConfigError("bonds.exclude: bonded exclusions are not yet supported with pair.style = \"edpd\" (they would "
                       "remove the pair's force but not its heat flux)",

@@ -113,6 +113,8 @@ PairValues pair_values(const PairSpec& ps, const SimulationSpec& spec, int speci
     const SpeciesSpec& sj = spec.species[static_cast<std::size_t>(b)];
     v.mass_i = si.mass;
     v.mass_j = sj.mass;
+    v.frozen_i = si.frozen;
+    v.frozen_j = sj.frozen;
     for (std::size_t k = 0; k < law.species_own.size(); ++k) {
       const auto of = [&](const SpeciesSpec& sp) {
         const auto it = sp.own.find(law.species_own[k].name);

@@ -12,6 +12,7 @@
 //   q^cond = k_ij w_CT (1/T_i - 1/T_j),  k_ij = C_v,i C_v,j kappa(T) Tbar^2
 //   q^R    = sqrt(2 k_ij) w_RT zeta^e dt^-1/2,  zeta^e_ij = -zeta^e_ji
 //   q^visc = (1/2) [w_D (gamma (e.v)^2 - sigma^2 (1/m_i + 1/m_j)/2) - sigma w_R (e.v) zeta dt^-1/2]
+// (all of it to the mobile particle of a wall-fluid pair, where the wall's 1/m is 0)
 // with w_CT = w_RT^2 = (1 - r/r_cT)^{s_T}. For one species (C_v,i = C_v,j = C_v, m = 1) k_ij is the seed's
 // C_v^2 kappa (T_i + T_j)^2 / 4. q^visc is the mechanical energy the pair's dissipative and random forces
 // take from the relative motion (with the Ito term sigma^2 w_D / m that the random kicks add on average),
@@ -48,7 +49,9 @@ struct EdpdPairParamsT {
   Real st = 2;         // heat weight exponent s_T
   Real cv_i = 1, cv_j = 1;         // heat capacities of the pair's two species (this entry's order)
   Real inv_cv_i = 1, inv_cv_j = 1;
-  Real ito = 1;        // (1/m_i + 1/m_j) / 2: the Ito term's inverse mass
+  Real ito = 1;        // (1/m_i + 1/m_j) / 2: the Ito term's inverse mass (a frozen particle's is 0)
+  Real visc_i = 0.5, visc_j = 0.5;  // shares of the viscous heat: 1/2 each, all of it to the mobile one
+                                    // of a wall-fluid pair
   Real inv_kt = 1;     // 1 / kT
   Real rcut2 = 1;      // max(rc, rd, rct)^2
 
@@ -73,6 +76,8 @@ struct EdpdPairParamsT {
     o.inv_cv_i = Other(inv_cv_i);
     o.inv_cv_j = Other(inv_cv_j);
     o.ito = Other(ito);
+    o.visc_i = Other(visc_i);
+    o.visc_j = Other(visc_j);
     o.inv_kt = Other(inv_kt);
     o.rcut2 = Other(rcut2);
     return o;
@@ -126,7 +131,9 @@ struct EdpdLaw {
       {"cv", 0.0, kInf, false, true, true, 0.0, "the heat capacity C_v per particle (LAMMPS's eDPD example: cv = 1e5)",
        "the heat capacity C_v per particle of this species (in units of k_B): U_i = C_v T_i."},
       {"temperature", 0.0, kInf, true, true, false, 0.0, "",
-       "the starting internal temperature T_i of the species' particles; 0 (the default) means `system.kT`."},
+       "the starting internal temperature T_i of the species' particles; 0 (the default) means `system.kT`. For a "
+       "frozen (wall) species: the temperature the wall is held at, through which it exchanges heat with the fluid; "
+       "a wall species without it is adiabatic (no conduction)."},
   }};
   static constexpr double kMinA = 0;
   static double heat_range(const PairValues& v) { return v.own[1] > 0 ? v.own[1] : v.rc; }
@@ -153,7 +160,14 @@ struct EdpdLaw {
     p.cv_j = v.species_j[0];
     p.inv_cv_i = 1.0 / p.cv_i;
     p.inv_cv_j = 1.0 / p.cv_j;
-    p.ito = 0.5 * (1.0 / v.mass_i + 1.0 / v.mass_j);
+    // Walls (frozen species): infinite mass, so the random kicks' mean energy is the mobile particle's
+    // alone; the pair's viscous heat all goes to the mobile particle (the wall has no heat budget); and
+    // a wall exchanges heat by conduction only if its species sets `temperature` (a wall held at it),
+    // else it is adiabatic.
+    p.ito = 0.5 * ((v.frozen_i ? 0.0 : 1.0 / v.mass_i) + (v.frozen_j ? 0.0 : 1.0 / v.mass_j));
+    p.visc_i = v.frozen_j ? 1.0 : (v.frozen_i ? 0.0 : 0.5);
+    p.visc_j = v.frozen_i ? 1.0 : (v.frozen_j ? 0.0 : 0.5);
+    if ((v.frozen_i && !(v.species_i[1] > 0)) || (v.frozen_j && !(v.species_j[1] > 0))) p.kappa = 0;
     p.inv_kt = 1.0 / v.kT;
     const double r = range(v);
     p.rcut2 = r * r;
@@ -196,9 +210,9 @@ struct EdpdLaw {
       kap = kap > Real(0) ? kap : Real(0);
       const Real kij = p.cv_i * p.cv_j * kap * tbar * tbar;
       const Real q_anti = kij * wct * (Real(1) / ti - Real(1) / tj) + std::sqrt(Real(2) * kij) * wrt * in.xe * in.inv_sqrt_dt;
-      const Real q_visc = Real(0.5) * (wd * (p.gamma * in.rv * in.rv - sigma * sigma * p.ito) - out.fr * in.rv);
-      out.qi = (q_anti + q_visc) * p.inv_cv_i;
-      out.qj = (q_visc - q_anti) * p.inv_cv_j;
+      const Real work = wd * (p.gamma * in.rv * in.rv - sigma * sigma * p.ito) - out.fr * in.rv;
+      out.qi = (q_anti + p.visc_i * work) * p.inv_cv_i;
+      out.qj = (p.visc_j * work - q_anti) * p.inv_cv_j;
       return out;
     }
   };

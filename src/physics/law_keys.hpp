@@ -31,13 +31,14 @@ inline constexpr std::array<std::string_view, 6> kSharedPairKeys{"a", "gamma", "
 // The values of one resolved species pair as a law reads them: the shared keys (sigma already follows
 // from gamma and kT, seed 000 Eq. 7; rd defaults to rc) and the law's own keys in the order of its kOwn.
 // Besides, the system's kT and, for the pair's two species i and j (in the order of the table entry),
-// their masses and the values of the law's species keys (kSpeciesOwn, read from [[species]]).
+// their masses, whether they are frozen and the values of the law's species keys (kSpeciesOwn, read from [[species]]).
 struct PairValues {
   double a = 25, gamma = 4.5, sigma = 3, rc = 1, rd = 1, s = 2;
   static constexpr std::size_t kMaxOwn = 16;
   std::array<double, kMaxOwn> own{};
   double kT = 1;
   double mass_i = 1, mass_j = 1;
+  bool frozen_i = false, frozen_j = false;  // wall particles (never integrated: infinite mass)
   static constexpr std::size_t kMaxSpeciesOwn = 4;
   std::array<double, kMaxSpeciesOwn> species_i{}, species_j{};
 };
