@@ -7,7 +7,7 @@ Reads OUT_DIR/trajectory.lammpstrj (the frames of the second half of the run), b
 temperature along z (bins of 1), fits a straight line to the bins more than 1 from the walls, and
 checks that the profile is linear (no bin more than 0.01 off the line) and that its slope is between
 0.6 and 1.1 times the walls' difference over their distance (the walls' own layer of pairs gives a
-temperature jump at each wall, so the fluid's slope is a little smaller). Writes profile.csv,
+temperature jump at each wall, so the fluid's slope is a little smaller). Writes walls_profile.csv,
 walls_check.json and walls_profile.png into OUT_DIR; exit code 1 when a criterion fails.
 """
 import json
@@ -74,7 +74,7 @@ def main():
               "profile_at_top": float(profile[-1])}
     ok = used > 0 and deviation < 0.01 and 0.6 < ratio < 1.1
     checks["pass"] = bool(ok)
-    with open(os.path.join(out, "profile.csv"), "w") as f:
+    with open(os.path.join(out, "walls_profile.csv"), "w") as f:
         f.write("z,temperature\n")
         for z, t in zip(centres, profile):
             f.write(f"{z},{t}\n")

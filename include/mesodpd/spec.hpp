@@ -159,6 +159,7 @@ struct FieldsSpec {
   FieldsFit fit = FieldsFit::None;            // "slab": tanh fit of a 1-D density profile
   int blocks = 10;                            // blocks for the slab fit's error bars (B..2B-1 used)
   std::uint64_t write_every = 0;              // also write the files at these steps (0: at the end only)
+  std::vector<std::string> means;             // per-particle fields (double) averaged per bin: "temp" (eDPD)
 };
 
 // Surface tension of planar interfaces normal to `axis` from the pressure tensor of each thermo row at

@@ -55,6 +55,9 @@ const keys::KeyTable<FieldsSpec>& fields_keys() {
       .allowed("`\"none\"`, `\"x\"`, `\"y\"`, `\"z\"` (a periodic axis)");
     t.choice("fit", &T::fit, {{"none", FieldsFit::None}, {"slab", FieldsFit::Slab}}, "`\"slab\"`: fit a tanh profile to the 1-D density (needs `bins` > 1 along exactly one axis, and at least 8 there).");
     t.integer("blocks", &T::blocks, {2}, "Blocks for the slab fit's error bars: samples go into B to 2B − 1 blocks of equal size (merged pairwise as the run grows); each block's profile is fitted on its own.");
+    t.strings("means", &T::means, "Per-particle fields averaged over the selected species' particles in each bin, written as `mean_<field>` (VTK array, CSV column, JSON): `[\"temp\"]` bins eDPD's internal temperature (`pair.style = \"edpd\"`). A field the run does not hold is an error at the first sample, naming this key.")
+      .default_text("none")
+      .allowed("names of floating-point particle fields (`temp`, `temp_rate`, `fx`, ...)");
     t.integer("write_every", &T::write_every, {0}, "Also write the output files at the steps that are multiples of this (after `start`; the averages go on, and the end of the run writes them again), to look at a long run while it goes; 0: at the end only.");
     return t;
   }();

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 
 #include "analysis/svg_plot.hpp"
 #include "io/atomic_file.hpp"
@@ -210,7 +211,7 @@ BinnedFields::BinnedFields(const FieldsSpec& spec, std::vector<double> species_m
       box_len_(box_len),
       periodic_(periodic) {
   n_species_ = mass_.size();
-  stride_ = n_species_ + 6;
+  stride_ = n_species_ + 6 + spec_.means.size();
   n_cells_ = 1;
   for (std::size_t d = 0; d < 3; ++d) {
     if (spec_.bins[d] < 1 || !(spec_.region_hi[d] > spec_.region_lo[d]))
@@ -259,6 +260,19 @@ double BinnedFields::centring_shift(const ParticleData& own, const Comm& comm) c
 void BinnedFields::sample(const ParticleData& own, const Comm& comm, std::uint64_t step) {
   const double shift = spec_.centre_axis >= 0 ? centring_shift(own, comm) : 0.0;
   scratch_.assign(n_cells_ * stride_, 0);
+  // The fields averaged per bin (FieldsSpec::means), found by name among those the particles hold.
+  std::vector<const double*> means(spec_.means.size(), nullptr);
+  own.for_each_field([&](const FieldInfo& info, const auto& v) {
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, double>)
+      for (std::size_t m = 0; m < means.size(); ++m)
+        if (spec_.means[m] == info.name) means[m] = v.data();
+  });
+  for (std::size_t m = 0; m < means.size(); ++m)
+    if (means[m] == nullptr)
+      throw ConfigError(fmt::format("analysis.fields.means: this run holds no particle field \"{}\" (\"temp\" needs "
+                                    "pair.style = \"edpd\")",
+                                    spec_.means[m]),
+                        "analysis.fields.means");
   const std::vector<double>* pos[3] = {&own.x, &own.y, &own.z};
   const std::vector<double>* vel[3] = {&own.vx, &own.vy, &own.vz};
   for (std::size_t i = 0; i < own.n_local; ++i) {
@@ -283,6 +297,7 @@ void BinnedFields::sample(const ParticleData& own, const Comm& comm, std::uint64
       c[n_species_ + d] += fixed(p);
       c[n_species_ + 3 + d] += fixed(p * v);
     }
+    for (std::size_t m = 0; m < means.size(); ++m) c[n_species_ + 6 + m] += fixed(means[m][i]);
   }
   comm.sum(std::span<FieldSum>(scratch_));
   for (std::size_t k = 0; k < sums_.size(); ++k) sums_[k] += scratch_[k];
@@ -355,6 +370,17 @@ std::vector<double> BinnedFields::velocity(int axis) const {
   return out;
 }
 
+std::vector<double> BinnedFields::mean(std::size_t m) const {
+  std::vector<double> out(n_cells_, kNaN);
+  for (std::size_t c = 0; c < n_cells_; ++c) {
+    long double n = 0;
+    for (std::size_t s = 0; s < n_species_; ++s)
+      if (selected_[s]) n += total(c, s);
+    if (n > 0) out[c] = static_cast<double>(total(c, n_species_ + 6 + m) / kFixedScale / n);
+  }
+  return out;
+}
+
 std::vector<double> BinnedFields::temperature(int axis) const {
   std::vector<double> out(n_cells_, kNaN);
   for (std::size_t c = 0; c < n_cells_; ++c) {
@@ -422,6 +448,8 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
   const std::vector<double> v[3] = {velocity(0), velocity(1), velocity(2)};
   const std::vector<double> t = temperature(-1);
   const std::vector<double> td[3] = {temperature(0), temperature(1), temperature(2)};
+  std::vector<std::vector<double>> means;
+  for (std::size_t m = 0; m < spec_.means.size(); ++m) means.push_back(mean(m));
 
   // VTK image data: one cell per bin.
   VtkImage image;
@@ -436,6 +464,7 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
   image.arrays.push_back({"velocity", 3, std::move(vel)});
   image.arrays.push_back({"temperature", 1, t});
   for (std::size_t d = 0; d < 3; ++d) image.arrays.push_back({fmt::format("temperature_{}", kAxisNames[d]), 1, td[d]});
+  for (std::size_t m = 0; m < means.size(); ++m) image.arrays.push_back({"mean_" + spec_.means[m], 1, means[m]});
   image.field_data = {{"samples", static_cast<double>(samples_)},
                       {"first_step", static_cast<double>(first_step_)},
                       {"last_step", static_cast<double>(last_step_)}};
@@ -445,15 +474,19 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
   write_file_atomically(dir / (name + ".csv"), [&](std::ostream& os) {
     os << "ix,iy,iz,x,y,z,density";
     for (const std::string& s : names_) os << ",density_" << s;
-    os << ",vx,vy,vz,temperature,temperature_x,temperature_y,temperature_z\n";
+    os << ",vx,vy,vz,temperature,temperature_x,temperature_y,temperature_z";
+    for (const std::string& m : spec_.means) os << ",mean_" << m;
+    os << "\n";
     const auto nx = static_cast<std::size_t>(spec_.bins[0]), ny = static_cast<std::size_t>(spec_.bins[1]);
     for (std::size_t c = 0; c < n_cells_; ++c) {
       const auto x = centre(c);
       os << fmt::format("{},{},{},{:.10g},{:.10g},{:.10g},{:.10g}", c % nx, (c / nx) % ny, c / (nx * ny), x[0], x[1],
                         x[2], rho[c]);
       for (std::size_t s = 0; s < n_species_; ++s) os << fmt::format(",{:.10g}", rho_s[s][c]);
-      os << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", v[0][c], v[1][c], v[2][c], t[c],
+      os << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", v[0][c], v[1][c], v[2][c], t[c],
                         td[0][c], td[1][c], td[2][c]);
+      for (const std::vector<double>& m : means) os << fmt::format(",{:.10g}", m[c]);
+      os << "\n";
     }
   });
 
@@ -472,6 +505,7 @@ std::string BinnedFields::write(const std::filesystem::path& dir) const {
     if (selected_[s]) selected.push_back(names_[s]);
   j["species"] = selected;
   j["centre"] = spec_.centre_axis >= 0 ? kAxisNames[spec_.centre_axis] : "none";
+  j["means"] = spec_.means;
   std::string summary;
   const int axis = profile_axis();
   SlabFit fit;

@@ -79,6 +79,7 @@ class BinnedFields {
   std::vector<double> species_density(int species) const;  // any species
   std::vector<double> velocity(int axis) const;
   std::vector<double> temperature(int axis) const;       // axis 0..2, or -1 for the mean of the three
+  std::vector<double> mean(std::size_t m) const;         // the per-particle field spec().means[m], per bin
   std::array<double, 3> centre(std::size_t cell) const;  // bin centre in box coordinates
   double cell_volume() const;
   // The axis of a 1-D grid (bins > 1 along exactly one axis), or -1.

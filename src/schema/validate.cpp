@@ -23,6 +23,7 @@
 #include "engine/pair_laws.hpp"
 #include "engine/run_keys.hpp"
 #include "integrate/integrator_keys.hpp"
+#include "core/particle_data.hpp"
 #include "io/frame.hpp"
 #include "schema/species_keys.hpp"
 
@@ -449,6 +450,20 @@ void validate_fields(SimulationSpec& spec) {
         fail(key + ".name", show(f.name),
              fmt::format("also the name of analysis.fields[{}]; each grid needs its own name (its output files)", prev));
     fields_keys().check(key, f);
+    for (const std::string& m : f.means) {
+      const std::size_t index = ParticleData::field_index(m);
+      const bool real = index < ParticleData::kFieldCount && ParticleData::fields()[index].kind == 'f' &&
+                        ParticleData::fields()[index].elem_bytes == sizeof(double);
+      if (!real) {
+        std::vector<std::string_view> doubles;
+        for (const FieldInfo& info : ParticleData::fields())
+          if (info.kind == 'f' && info.elem_bytes == sizeof(double)) doubles.push_back(info.name);
+        fail(key + ".means", show(f.means),
+             fmt::format("\"{}\" is not a floating-point particle field (one of {})", m, quoted_list(doubles)));
+      }
+      if (std::count(f.means.begin(), f.means.end(), m) > 1)
+        fail(key + ".means", show(f.means), fmt::format("\"{}\" is listed twice", m));
+    }
     double total = 1;
     for (std::size_t d = 0; d < 3; ++d) total *= f.bins[d];
     constexpr double kMaxBins = 4.0e6;  // running sums are (species + 6) 16-byte integers per bin

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/box.hpp"
+#include "mesodpd/config_error.hpp"
 #include "parallel/comm.hpp"
 #include "random_particles.hpp"
 #include "test_support.hpp"
@@ -71,6 +72,46 @@ TEST(BinnedFields, DensityTimesBinVolumeCountsEveryParticle) {
   double selected = 0;
   for (double r : fields.density()) selected += r * v;
   EXPECT_NEAR(selected, count[0] + count[2], 1e-9);
+}
+
+// FieldsSpec::means: the mean of a per-particle field over the selected species' particles in each bin
+// (eDPD's internal temperature), over the samples; a field the particles do not hold is an error naming
+// the key; the CSV and VTK files carry it as mean_<field>.
+TEST(BinnedFields, MeansOfAParticleFieldPerBin) {
+  Box box;
+  box.len = {4.0, 4.0, 8.0};
+  ParticleData p = test::random_particles(box, 2000, 11, 2);
+  p.enable("temp");
+  for (std::size_t i = 0; i < p.n_local; ++i) p.temp[i] = 1.0 + 0.1 * p.z[i] + (p.species[i] == 1 ? 5.0 : 0.0);
+  FieldsSpec f = grid({1, 1, 4}, {4, 4, 8}, 2);
+  f.selected = {0};  // species 1 (5 hotter) is left out of the means
+  f.means = {"temp"};
+  BinnedFields fields(f, {1.0, 1.0}, names(2), {4, 4, 8});
+  const Comm comm = Comm::serial();
+  fields.sample(p, comm, 0);
+  for (std::size_t i = 0; i < p.n_local; ++i) p.temp[i] += 1.0;  // a second sample, one hotter
+  fields.sample(p, comm, 1);
+  const std::vector<double> mean = fields.mean(0);
+  for (std::size_t b = 0; b < 4; ++b) {
+    double sum = 0, n = 0;
+    for (std::size_t i = 0; i < p.n_local; ++i)
+      if (p.species[i] == 0 && static_cast<std::size_t>(p.z[i] / 2.0) == b) sum += p.temp[i] - 0.5, n += 1;
+    EXPECT_NEAR(mean[b], sum / n, 1e-9) << "bin " << b;
+  }
+  EXPECT_NEAR(mean[3] - mean[0], 0.6, 0.05);  // 0.1 per unit of z, bins 2 apart
+  const fs::path dir = fresh_dir("means");
+  fields.write(dir);
+  const std::string csv = test::read_file(dir / "fields.csv");
+  EXPECT_NE(csv.find(",mean_temp\n"), std::string::npos);
+  EXPECT_NE(test::read_file(dir / "fields.vti").find("mean_temp"), std::string::npos);
+  ParticleData plain = test::random_particles(box, 100, 12, 2);
+  BinnedFields missing(f, {1.0, 1.0}, names(2), {4, 4, 8});
+  try {
+    missing.sample(plain, comm, 0);
+    ADD_FAILURE() << "no error for a field the particles do not hold";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("analysis.fields.means"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BinnedFields, SubRegionCountsOnlyTheParticlesInside) {

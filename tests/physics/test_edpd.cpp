@@ -303,6 +303,9 @@ TEST(Edpd, BadInputNamesTheKey) {
   std::string euler = edpd_config(6.0, 0.01, 50.0, 0.05);
   euler.replace(euler.find("[integrator]"), 12, "[integrator]\ntype = \"euler\"");
   EXPECT_NE(error_of(euler).find("integrator.type"), std::string::npos) << error_of(euler);
+  // A binned mean of something that is not a floating-point particle field.
+  const std::string means = edpd_config(6.0, 0.01, 50.0, 0.05) + "\n[analysis.fields]\nmeans = [\"species\"]\n";
+  EXPECT_NE(error_of(means).find("analysis.fields.means"), std::string::npos) << error_of(means);
 }
 
 // The conduction term alone, on one configuration: for a temperature field T = 1 + eps sin(k z) on
