@@ -17,6 +17,7 @@
 #include "mesodpd/config.hpp"
 #include "random_particles.hpp"
 #include "test_support.hpp"
+#include "threads_and_restart.hpp"
 
 namespace mesodpd {
 namespace {
@@ -177,20 +178,11 @@ TEST(PairThermostats, BitIdenticalForOneAndTwoThreadsAndAcrossARestart) {
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     const SimulationSpec spec = parse_config(fluid(5.0, 0.04, section), "t.toml");
-    auto run = [&](int threads, std::uint64_t steps, const std::filesystem::path& restart) {
-      omp_set_num_threads(threads);
-      RunOptions o;
-      o.steps = steps;
-      o.restart = restart;
-      Simulation sim(spec, o);
-      sim.run();
-      if (restart.empty()) sim.write_checkpoint(dir / ("c" + std::to_string(steps) + ".mdpd"));
-      return test::state_by_id(sim.particles());
-    };
-    const auto one = run(1, 120, {});
-    EXPECT_TRUE(run(2, 120, {}) == one) << "1 and 2 threads differ: " << section;
-    run(1, 50, {});
-    EXPECT_TRUE(run(2, 120, dir / "c50.mdpd") == one) << "the restarted run diverged: " << section;
+    const auto one = test::run_on_threads(spec, 1, 120, dir);
+    EXPECT_TRUE(test::run_on_threads(spec, 2, 120, dir) == one) << "1 and 2 threads differ: " << section;
+    test::run_on_threads(spec, 1, 50, dir);
+    EXPECT_TRUE(test::run_on_threads(spec, 2, 120, dir, dir / "c50.mdpd") == one)
+        << "the restarted run diverged: " << section;
   }
   omp_set_num_threads(1);
   std::filesystem::remove_all(dir);
