@@ -135,8 +135,9 @@ def main():
         ax.axhspan(-1, 1, color="0.9", zorder=0)
         ax.axhline(0, color="0.5", lw=0.8)
         ax.axvline(0.06, color="0.7", lw=0.8, ls="--")
+        ax.set_yscale("symlog", linthresh=1.0, linscale=1.0)  # linear within +-1%, logarithmic beyond
         ax.set_xlabel("time step dt")
-        ax.set_ylabel("kinetic temperature error (%)")
+        ax.set_ylabel("kinetic temperature error (%), symlog")
         ax.set_title("rho = 3, a = 25, gamma = Gamma = 4.5, N = 5184")
         ax.legend(fontsize=8)
         fig.tight_layout()
