@@ -60,8 +60,6 @@ void PairThermostat::bin(const ParticleData& p, const Box& box) {
   const auto by_id = [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; };
   for (std::size_t c = 0; c < cells; ++c)
     std::sort(order_.begin() + cell_start_[c], order_.begin() + cell_start_[c + 1], by_id);
-  place_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) place_[order_[k]] = static_cast<std::uint32_t>(k);
 }
 
 void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<double>& species_mass,
@@ -92,15 +90,17 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
     const int cz = c % dims_[2], cy = (c / dims_[2]) % dims_[1], cx = c / (dims_[2] * dims_[1]);
     int nx[3], ny[3], nz[3];
     const int mx = near(cx, 0, nx), my = near(cy, 1, ny), mz = near(cz, 2, nz);
-    // Partners later in the sweep order, closer than rc, by id.
+    // Partners later in the sweep order, closer than rc, by id. Later means a neighbouring cell of a
+    // higher index, or this cell after i: the cells of lower index are skipped whole.
     partners_.clear();
     for (int a = 0; a < mx; ++a)
       for (int b = 0; b < my; ++b)
         for (int e = 0; e < mz; ++e) {
-          const std::size_t cell = static_cast<std::size_t>((nx[a] * dims_[1] + ny[b]) * dims_[2] + nz[e]);
-          for (std::uint32_t q = cell_start_[cell]; q < cell_start_[cell + 1]; ++q) {
+          const int cell = (nx[a] * dims_[1] + ny[b]) * dims_[2] + nz[e];
+          if (cell < c) continue;
+          const std::uint32_t first = cell == c ? static_cast<std::uint32_t>(k) + 1 : cell_start_[static_cast<std::size_t>(cell)];
+          for (std::uint32_t q = first; q < cell_start_[static_cast<std::size_t>(cell) + 1]; ++q) {
             const std::uint32_t j = order_[q];
-            if (place_[j] <= k) continue;
             const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
             const double dy = minimum_image(p.y[i] - p.y[j], len[1], half[1]);
             const double dz = minimum_image(p.z[i] - p.z[j], len[2], half[2]);

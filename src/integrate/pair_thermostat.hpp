@@ -51,12 +51,12 @@ class PairThermostat {
   std::uint64_t last_pairs() const { return last_pairs_; }
 
  private:
-  // Sorts the particles into cells of at least rc, by (cell, id): order_, cell_start_, place_.
+  // Sorts the particles into cells of at least rc, by (cell, id): order_ (the sweep order), cell_start_.
   void bin(const ParticleData& p, const Box& box);
 
   PairThermostatParams params_;
   std::array<int, 3> dims_{1, 1, 1};
-  std::vector<std::uint32_t> cell_of_, cell_start_, order_, place_, partners_;
+  std::vector<std::uint32_t> cell_of_, cell_start_, order_, partners_;
   std::uint64_t last_pairs_ = 0;
 };
 
