@@ -4,10 +4,10 @@
 // +P e_ij on i and -P e_ij on j: linear and angular momentum are kept pair by pair.
 //
 // The sweep is serial and visits the pairs in a fixed order that depends on the positions and ids alone
-// (cells of at least r_c in x-major order; within a cell by id; each particle's later partners by id),
-// and every random number is a pure function of (seed, step, min id, max id) (core/philox.hpp, stream
-// PairThermostat). The result is therefore the same on any thread count, in any storage order, and
-// after a restart. The formulas are in docs/physics.md, section "Pairwise thermostats".
+// (cells of at least r_c numbered (c_x n_y + c_y) n_z + c_z; within a cell by id; each particle's later
+// partners by id), and every random number is a pure function of (seed, step, min id, max id)
+// (core/philox.hpp, stream PairThermostat). The result is therefore the same on any thread count, in
+// any storage order, and after a restart. The formulas are in docs/physics.md, section "Pairwise thermostats".
 #pragma once
 #include <array>
 #include <cstdint>
