@@ -16,10 +16,9 @@
 
 namespace mesodpd::test {
 
-inline std::map<std::uint32_t, std::array<double, 6>> run_on_threads(const SimulationSpec& spec, int threads,
-                                                                     std::uint64_t steps,
-                                                                     const std::filesystem::path& dir,
-                                                                     const std::filesystem::path& restart = {}) {
+inline std::map<std::uint32_t, std::array<double, 6>> run_on_threads(
+    const SimulationSpec& spec, int threads, std::uint64_t steps, const std::filesystem::path& dir,
+    const std::filesystem::path& restart = {}) {
   omp_set_num_threads(threads);
   RunOptions o;
   o.steps = steps;

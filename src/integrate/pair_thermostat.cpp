@@ -38,7 +38,8 @@ double peters_update(double u, double mu, double gamma_wd_dt, double kT, const s
 void PairThermostat::bin(const ParticleData& p, const Box& box) {
   const std::size_t n = p.n_local;
   for (int d = 0; d < 3; ++d)
-    dims_[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(std::floor(box.length(d) / params_.rc)));
+    dims_[static_cast<std::size_t>(d)] =
+        std::max(1, static_cast<int>(std::floor(box.length(d) / params_.rc)));
   const std::size_t cells = static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) *
                             static_cast<std::size_t>(dims_[2]);
   cell_of_.resize(n);
@@ -98,7 +99,8 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
         for (int e = 0; e < mz; ++e) {
           const int cell = (nx[a] * dims_[1] + ny[b]) * dims_[2] + nz[e];
           if (cell < c) continue;
-          const std::uint32_t first = cell == c ? static_cast<std::uint32_t>(k) + 1 : cell_start_[static_cast<std::size_t>(cell)];
+          const std::uint32_t first =
+              cell == c ? static_cast<std::uint32_t>(k) + 1 : cell_start_[static_cast<std::size_t>(cell)];
           for (std::uint32_t q = first; q < cell_start_[static_cast<std::size_t>(cell) + 1]; ++q) {
             const std::uint32_t j = order_[q];
             const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
@@ -107,7 +109,8 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
             if (dx * dx + dy * dy + dz * dz < rc2) partners_.push_back(j);
           }
         }
-    std::sort(partners_.begin(), partners_.end(), [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
+    std::sort(partners_.begin(), partners_.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
     const double mi = species_mass[static_cast<std::size_t>(p.species[i])];
     for (const std::uint32_t j : partners_) {
       const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
@@ -119,15 +122,17 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
       const double mj = species_mass[static_cast<std::size_t>(p.species[j])];
       const double mu = mi * mj / (mi + mj);
       const double u = ex * (p.vx[i] - p.vx[j]) + ey * (p.vy[i] - p.vy[j]) + ez * (p.vz[i] - p.vz[j]);
-      const Philox4x32 bits = pair_random_bits(params_.seed, step, p.id[i], p.id[j], RngStream::PairThermostat);
+      const Philox4x32 bits =
+          pair_random_bits(params_.seed, step, p.id[i], p.id[j], RngStream::PairThermostat);
       double u_new = u;
       if (params_.kind == PairThermostatKind::LoweAndersen) {
         u_new = lowe_andersen_update(u, mu, params_.rate * dt, kT, bits.v);
       } else {
         const double om = 1.0 - r / rc;
         const double wd = params_.s == 2.0 ? om * om : std::pow(om, params_.s);
-        u_new = params_.kind == PairThermostatKind::Shardlow ? shardlow_update(u, mu, params_.gamma * wd * dt, kT, bits.v)
-                                                             : peters_update(u, mu, params_.gamma * wd * dt, kT, bits.v);
+        u_new = params_.kind == PairThermostatKind::Shardlow
+                    ? shardlow_update(u, mu, params_.gamma * wd * dt, kT, bits.v)
+                    : peters_update(u, mu, params_.gamma * wd * dt, kT, bits.v);
       }
       ++pairs;
       if (u_new == u) continue;

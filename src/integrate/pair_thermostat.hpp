@@ -7,7 +7,8 @@
 // (cells of at least r_c numbered (c_x n_y + c_y) n_z + c_z; within a cell by id; each particle's later
 // partners by id), and every random number is a pure function of (seed, step, min id, max id)
 // (core/philox.hpp, stream PairThermostat). The result is therefore the same on any thread count, in
-// any storage order, and after a restart. The formulas are in docs/physics.md, section "Pairwise thermostats".
+// any storage order, and after a restart. The formulas are in docs/physics.md, section "Pairwise
+// thermostats".
 #pragma once
 #include <array>
 #include <cstdint>
@@ -44,7 +45,8 @@ class PairThermostat {
 
   // One sweep over the particles [0, p.n_local) of `box` (all of the system: one rank). `species_mass`
   // by species index; `step` keys the random numbers.
-  void sweep(ParticleData& p, const Box& box, const std::vector<double>& species_mass, std::uint64_t step, double dt);
+  void sweep(ParticleData& p, const Box& box, const std::vector<double>& species_mass, std::uint64_t step,
+             double dt);
 
   const PairThermostatParams& params() const { return params_; }
   // Pairs closer than rc in the last sweep (for tests and the cost notes).

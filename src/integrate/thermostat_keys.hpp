@@ -1,6 +1,6 @@
-// [thermostat]: a pairwise thermostat after a conservative velocity-Verlet step (integrate/pair_thermostat.hpp).
-// Its values, its declared keys and the cross-checks that the ranges cannot say; the section is a model's
-// own (include/mesodpd/model_section.hpp), listed in engine/installers.cpp.
+// [thermostat]: a pairwise thermostat after a conservative velocity-Verlet step
+// (integrate/pair_thermostat.hpp). Its values, its declared keys and the cross-checks that the ranges cannot
+// say; the section is a model's own (include/mesodpd/model_section.hpp), listed in engine/installers.cpp.
 #pragma once
 #include <optional>
 
@@ -16,7 +16,7 @@ struct ThermostatSpec {
   std::optional<double> rate;   // Gamma: Lowe-Andersen only, required there
   std::optional<double> gamma;  // friction: Shardlow and Peters only, required there
   double rc = 1.0;
-  std::optional<double> s;      // weight exponent: Shardlow and Peters only (default 2)
+  std::optional<double> s;  // weight exponent: Shardlow and Peters only (default 2)
 
   double exponent() const { return s.value_or(2.0); }
 };

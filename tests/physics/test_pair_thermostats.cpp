@@ -26,18 +26,22 @@ namespace {
 std::string fluid(double box, double dt, const std::string& section, const std::string& pair_gamma = "0.0",
                   const std::string& extra = "") {
   const std::string b = std::to_string(box);
-  return "[system]\nbox = [" + b + ", " + b + ", " + b + "]\nkT = 1.0\nseed = 11\n[[species]]\nname = \"A\"\n"
-         "density = 3.0\n" + extra + "[pair]\na = 25.0\ngamma = " + pair_gamma + "\n[integrator]\ndt = " +
-         std::to_string(dt) + "\n[run]\nsteps = 100\n[output]\nprogress = false\n[thermostat]\n" + section;
+  return "[system]\nbox = [" + b + ", " + b + ", " + b +
+         "]\nkT = 1.0\nseed = 11\n[[species]]\nname = \"A\"\n"
+         "density = 3.0\n" +
+         extra + "[pair]\na = 25.0\ngamma = " + pair_gamma + "\n[integrator]\ndt = " + std::to_string(dt) +
+         "\n[run]\nsteps = 100\n[output]\nprogress = false\n[thermostat]\n" + section;
 }
 
 double kinetic_temperature(const ParticleData& p) {
   double twice_ke = 0;
-  for (std::size_t i = 0; i < p.n_local; ++i) twice_ke += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  for (std::size_t i = 0; i < p.n_local; ++i)
+    twice_ke += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
   return twice_ke / (3.0 * static_cast<double>(p.n_local) - 3.0);
 }
 
-const std::vector<std::string> kSections{"type = \"lowe-andersen\"\nrate = 4.5\n", "type = \"shardlow\"\ngamma = 4.5\n",
+const std::vector<std::string> kSections{"type = \"lowe-andersen\"\nrate = 4.5\n",
+                                         "type = \"shardlow\"\ngamma = 4.5\n",
                                          "type = \"peters\"\ngamma = 4.5\n"};
 
 // Each thermostat holds kT = 1 at a small step. 7^3 x 3 = 1029 particles, 400 steps of relaxation from
@@ -78,7 +82,8 @@ TEST(PairThermostats, EachSweepConservesMomentum) {
     }
     return m;
   };
-  for (const PairThermostatKind kind : {PairThermostatKind::LoweAndersen, PairThermostatKind::Shardlow, PairThermostatKind::Peters}) {
+  for (const PairThermostatKind kind :
+       {PairThermostatKind::LoweAndersen, PairThermostatKind::Shardlow, PairThermostatKind::Peters}) {
     PairThermostatParams params;
     params.kind = kind;
     params.rate = 10.0;
@@ -88,7 +93,8 @@ TEST(PairThermostats, EachSweepConservesMomentum) {
     const std::vector<double> vx0 = p.vx;
     sweep.sweep(p, box, mass, 17, 0.05);
     const auto after = momentum();
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[static_cast<std::size_t>(c)], before[static_cast<std::size_t>(c)], 1e-12);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(after[static_cast<std::size_t>(c)], before[static_cast<std::size_t>(c)], 1e-12);
     EXPECT_GT(sweep.last_pairs(), 1000u);
     EXPECT_NE(p.vx, vx0);
   }
@@ -155,7 +161,8 @@ TEST(PairThermostats, ShardlowAndPetersKeepThePairsMaxwellDistributionAtAnyStep)
     double su = 0, su2 = 0, pu = 0, pu2 = 0, us = 3.0, up = 3.0;
     const int n = 200000, skip = 200;
     for (int k = 0; k < n + skip; ++k) {
-      const Philox4x32 b = pair_random_bits(99, static_cast<std::uint64_t>(k), 1, 2, RngStream::PairThermostat);
+      const Philox4x32 b =
+          pair_random_bits(99, static_cast<std::uint64_t>(k), 1, 2, RngStream::PairThermostat);
       us = shardlow_update(us, mu, gwdt, kT, b.v);
       up = peters_update(up, mu, gwdt, kT, b.v);
       if (k < skip) continue;
@@ -165,8 +172,10 @@ TEST(PairThermostats, ShardlowAndPetersKeepThePairsMaxwellDistributionAtAnyStep)
       pu2 += up * up;
     }
     // Correlated samples (relaxation over about 1/a updates): a few per cent of statistical error at a = 0.1.
-    EXPECT_NEAR((su2 / n - (su / n) * (su / n)) / (kT / mu), 1.0, a < 0.5 ? 0.06 : 0.02) << "shardlow a = " << a;
-    EXPECT_NEAR((pu2 / n - (pu / n) * (pu / n)) / (kT / mu), 1.0, a < 0.5 ? 0.06 : 0.02) << "peters a = " << a;
+    EXPECT_NEAR((su2 / n - (su / n) * (su / n)) / (kT / mu), 1.0, a < 0.5 ? 0.06 : 0.02)
+        << "shardlow a = " << a;
+    EXPECT_NEAR((pu2 / n - (pu / n) * (pu / n)) / (kT / mu), 1.0, a < 0.5 ? 0.06 : 0.02)
+        << "peters a = " << a;
   }
 }
 
@@ -204,10 +213,11 @@ TEST(PairThermostats, BadInputIsRefusedNamingTheKey) {
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "rate = 30.0\n")), "thermostat.rate");  // Gamma dt = 1.2 > 1
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "rate = 0.0\n")), "thermostat.rate");
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"lowe-andersen\"\n")), "thermostat.rate");  // missing
-  EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"shardlow\"\n")), "thermostat.gamma");       // missing
+  EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"shardlow\"\n")), "thermostat.gamma");      // missing
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"anderson\"\nrate = 4.5\n")), "thermostat.type");
   // A key of another type.
-  EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"shardlow\"\ngamma = 4.5\nrate = 4.5\n")), "thermostat.rate");
+  EXPECT_EQ(refused_key(fluid(5.0, 0.04, "type = \"shardlow\"\ngamma = 4.5\nrate = 4.5\n")),
+            "thermostat.rate");
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "rate = 4.5\ngamma = 4.5\n")), "thermostat.gamma");
   EXPECT_EQ(refused_key(fluid(5.0, 0.04, "rate = 4.5\ns = 1.0\n")), "thermostat.s");
   // Peters: gamma dt / mu = 20 x 0.04 / 0.5 = 1.6 > 1.
@@ -221,7 +231,20 @@ TEST(PairThermostats, BadInputIsRefusedNamingTheKey) {
   euler.replace(euler.find("[integrator]\n"), 13, "[integrator]\ntype = \"euler\"\n");
   EXPECT_EQ(refused_key(euler), "integrator.type");
   // (A [[solid]] needs a frozen species, so walls are refused by this one too.)
-  EXPECT_EQ(refused_key(fluid(5.0, 0.04, la, "0.0", "[[species]]\nname = \"W\"\nfrozen = true\n")), "species[1].frozen");
+  EXPECT_EQ(refused_key(fluid(5.0, 0.04, la, "0.0", "[[species]]\nname = \"W\"\nfrozen = true\n")),
+            "species[1].frozen");
+}
+
+// eDPD keeps its own energy balance: a thermostat beside it is refused when the run is built.
+TEST(PairThermostats, RefusedWithALawThatCarriesParticleTemperatures) {
+  std::string toml = fluid(5.0, 0.01, "rate = 4.5\n", "0.0", "cv = 100.0\n");
+  toml.replace(toml.find("[pair]\n"), 7, "[pair]\nstyle = \"edpd\"\nkappa = 0.1\n");
+  try {
+    Simulation sim(parse_config(toml, "edpd.toml"), RunOptions{});
+    FAIL() << "eDPD with [thermostat] accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.key(), "pair.style") << e.what();
+  }
 }
 
 // On the command line: one line naming the key, and a non-zero exit.
@@ -236,7 +259,8 @@ TEST(PairThermostats, TheCommandExitsNonZeroNamingTheKey) {
     std::fputs(text.c_str(), f);
     std::fclose(f);
   }
-  const std::string cmd = test::mesodpd_bin() + " run " + file.string() + " --out " + (dir / "out").string() + " 2>&1";
+  const std::string cmd =
+      test::mesodpd_bin() + " run " + file.string() + " --out " + (dir / "out").string() + " 2>&1";
   std::FILE* pipe = popen(cmd.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;
