@@ -46,8 +46,9 @@ MESODPD_HD Philox4x32 philox4x32_10(Philox4x32 ctr, std::uint32_t k0, std::uint3
 MESODPD_HD double u01_open(std::uint32_t w) { return (static_cast<double>(w) + 0.5) * (1.0 / 4294967296.0); }
 
 // Streams separate independent uses of one seed (pair noise, initial velocities, placement, ...).
+// PairThermostat: the pair draws of [thermostat] (integrate/pair_thermostat.hpp).
 enum class RngStream : std::uint32_t {
-  PairNoise = 1, InitVelocity = 2, InitPosition = 3, WallReflection = 4, InitMolecule = 5
+  PairNoise = 1, InitVelocity = 2, InitPosition = 3, WallReflection = 4, InitMolecule = 5, PairThermostat = 6
 };
 
 // Symmetric pair noise: one draw per unordered pair (i, j) per step. The key holds the seed;

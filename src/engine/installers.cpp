@@ -15,6 +15,8 @@ void install_edpd(Installation& in);             // pair.style = "edpd": interna
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
+void install_thermostat(Installation& in);       // [thermostat]: pair sweep after the velocities (AfterSecondHalf)
+ModelSection thermostat_section();               // its keys (integrate/thermostat_keys.hpp)
 // The analyses (engine/install_analyses.cpp), each its own EndOfStep stage, in the order they ran in
 // when they were one stage (Observers) so that every output stays byte for byte the same.
 void install_thermo(Installation& in);            // thermo.csv rows and means (+ the columns above)
@@ -45,6 +47,7 @@ std::vector<Model> models() {
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},
+                          {"thermostat", install_thermostat, thermostat_section},
                           {"thermo", install_thermo, {}},
                           {"surface_tension", install_surface_tension, {}},
                           {"velocity_profile", install_velocity_profile, {}},

@@ -391,6 +391,22 @@ TEST(Mpi, RefusesADecompositionThinnerThanTheGhostWidth) {
   EXPECT_NE(c.err.find("needs 4 ranks but the run has 2"), std::string::npos) << c.err;
 }
 
+// The pairwise thermostats sweep every pair serially on one rank: more ranks are refused naming the
+// section's key, with the exit code of a config error; one rank runs.
+TEST(Mpi, RefusesAPairwiseThermostatOnMoreThanOneRank) {
+  const fs::path dir = fresh_dir();
+  std::string cfg = fluid_config("[thermostat]\nrate = 4.5\n\n[output]\nprogress = false\n");
+  cfg.replace(cfg.find("gamma = 4.5"), 11, "gamma = 0.0");
+  cfg.replace(cfg.find("steps = 2000"), 12, "steps = 20");
+  write(dir / "la.toml", cfg);
+  const Result one = mpirun(dir, 1, "run la.toml --out one");
+  EXPECT_EQ(one.code, 0) << one.err;
+  const Result two = mpirun(dir, 2, "run la.toml --out two");
+  EXPECT_EQ(two.code, 2) << two.err;
+  EXPECT_NE(two.err.find("thermostat.type"), std::string::npos) << two.err;
+  EXPECT_NE(two.err.find("one MPI rank only"), std::string::npos) << two.err;
+}
+
 // A blow-up on a decomposed run stops every rank with the same step and particle as on one rank.
 TEST(Mpi, BlowUpIsReportedLikeOnOneRank) {
   const fs::path dir = fresh_dir();

@@ -20,6 +20,7 @@
 #include "physics/spline_pair.hpp"
 #include "random_particles.hpp"
 #include "test_support.hpp"
+#include "threads_and_restart.hpp"
 
 using namespace mesodpd;
 
@@ -156,20 +157,10 @@ TEST(ManyBody, BitIdenticalForOneAndTwoThreadsAndAcrossARestart) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const SimulationSpec spec = warren_spec(5.0, 5.0, 4.5, DensityKernelChoice::Lucy);
-  auto run = [&](int threads, std::uint64_t steps, const std::filesystem::path& restart) {
-    omp_set_num_threads(threads);
-    RunOptions o;
-    o.steps = steps;
-    o.restart = restart;
-    Simulation sim(spec, o);
-    sim.run();
-    if (restart.empty()) sim.write_checkpoint(dir / ("c" + std::to_string(steps) + ".mdpd"));
-    return test::state_by_id(sim.particles());
-  };
-  const auto one = run(1, 120, {});
-  EXPECT_TRUE(run(2, 120, {}) == one) << "1 and 2 threads differ";
-  run(1, 50, {});
-  EXPECT_TRUE(run(2, 120, dir / "c50.mdpd") == one) << "the restarted run diverged";
+  const auto one = test::run_on_threads(spec, 1, 120, dir);
+  EXPECT_TRUE(test::run_on_threads(spec, 2, 120, dir) == one) << "1 and 2 threads differ";
+  test::run_on_threads(spec, 1, 50, dir);
+  EXPECT_TRUE(test::run_on_threads(spec, 2, 120, dir, dir / "c50.mdpd") == one) << "the restarted run diverged";
   omp_set_num_threads(1);
   std::filesystem::remove_all(dir);
 }

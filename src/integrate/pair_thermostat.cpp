@@ -1,0 +1,152 @@
+// The pair sweeps of [thermostat] and their per-pair updates (formulas: docs/physics.md, "Pairwise
+// thermostats").
+#include "integrate/pair_thermostat.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/philox.hpp"
+
+namespace mesodpd {
+
+double lowe_andersen_update(double u, double mu, double rate_dt, double kT, const std::uint32_t bits[4]) {
+  // Lowe 1999: with probability Gamma dt the pair's relative velocity along e is drawn afresh from the
+  // Maxwell distribution of its reduced mass (variance kT / mu; 2 kT / m for equal masses m).
+  if (u01_open(bits[0]) >= rate_dt) return u;
+  return std::sqrt(kT / mu) * gaussian_unit(bits[1], bits[2]);
+}
+
+double shardlow_update(double u, double mu, double gamma_wd_dt, double kT, const std::uint32_t bits[4]) {
+  // Shardlow's S1 step for the pair's stochastic ODE mu du = -gamma w_D u dt + sigma w_R dW along e
+  // (sigma^2 = 2 gamma kT, w_R^2 = w_D): half a step explicit, half a step implicit in the friction,
+  // one Gaussian xi shared by the two halves. With A = gamma w_D dt / (2 mu) and
+  // B = sigma w_R sqrt(dt) xi / (2 mu):  u1 = (1 - A) u + B,  u' = (u1 + B) / (1 + A).
+  const double a = 0.5 * gamma_wd_dt / mu;
+  const double b = std::sqrt(2.0 * gamma_wd_dt * kT) * gaussian_unit(bits[0], bits[1]) / (2.0 * mu);
+  const double u1 = (1.0 - a) * u + b;
+  return (u1 + b) / (1.0 + a);
+}
+
+double peters_update(double u, double mu, double gamma_wd_dt, double kT, const std::uint32_t bits[4]) {
+  // Peters 2004 as we derived it (docs/physics.md): the friction impulse -gamma w_D dt u and a Gaussian
+  // one whose variance makes N(0, kT/mu) exactly invariant: with a = gamma w_D dt / mu,
+  // u' = (1 - a) u + sqrt(a (2 - a) kT / mu) xi.  [thermostat] refuses gamma dt / mu > 1 (a <= 1).
+  const double a = gamma_wd_dt / mu;
+  return (1.0 - a) * u + std::sqrt(a * (2.0 - a) * kT / mu) * gaussian_unit(bits[0], bits[1]);
+}
+
+void PairThermostat::bin(const ParticleData& p, const Box& box) {
+  const std::size_t n = p.n_local;
+  for (int d = 0; d < 3; ++d)
+    dims_[static_cast<std::size_t>(d)] =
+        std::max(1, static_cast<int>(std::floor(box.length(d) / params_.rc)));
+  const std::size_t cells = static_cast<std::size_t>(dims_[0]) * static_cast<std::size_t>(dims_[1]) *
+                            static_cast<std::size_t>(dims_[2]);
+  cell_of_.resize(n);
+  cell_start_.assign(cells + 1, 0);
+  const auto coord = [&](double x, int d) {
+    const int nd = dims_[static_cast<std::size_t>(d)];
+    const int c = static_cast<int>(x * nd / box.length(d));
+    return std::clamp(c, 0, nd - 1);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const int c = (coord(p.x[i], 0) * dims_[1] + coord(p.y[i], 1)) * dims_[2] + coord(p.z[i], 2);
+    cell_of_[i] = static_cast<std::uint32_t>(c);
+    ++cell_start_[static_cast<std::size_t>(c) + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  order_.resize(n);
+  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+  const auto by_id = [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; };
+  for (std::size_t c = 0; c < cells; ++c)
+    std::sort(order_.begin() + cell_start_[c], order_.begin() + cell_start_[c + 1], by_id);
+}
+
+void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<double>& species_mass,
+                           std::uint64_t step, double dt) {
+  bin(p, box);
+  const double rc = params_.rc, rc2 = rc * rc, kT = params_.kT;
+  const double len[3] = {box.image_len(0), box.image_len(1), box.image_len(2)};
+  const double half[3] = {box.half_image_len(0), box.half_image_len(1), box.half_image_len(2)};
+  // The distinct neighbouring cell coordinates of c along axis d (fewer than three when the axis has
+  // fewer than three cells, or at the faces of a bounded axis).
+  const auto near = [&](int c, int d, int out[3]) {
+    const int nd = dims_[static_cast<std::size_t>(d)];
+    int count = 0;
+    for (int o = -1; o <= 1; ++o) {
+      int k = c + o;
+      if (k < 0 || k >= nd) {
+        if (!box.periodic[static_cast<std::size_t>(d)]) continue;
+        k = (k + nd) % nd;
+      }
+      if (std::find(out, out + count, k) == out + count) out[count++] = k;
+    }
+    return count;
+  };
+  std::uint64_t pairs = 0;
+  for (std::size_t k = 0; k < p.n_local; ++k) {
+    const std::uint32_t i = order_[k];
+    const int c = static_cast<int>(cell_of_[i]);
+    const int cz = c % dims_[2], cy = (c / dims_[2]) % dims_[1], cx = c / (dims_[2] * dims_[1]);
+    int nx[3], ny[3], nz[3];
+    const int mx = near(cx, 0, nx), my = near(cy, 1, ny), mz = near(cz, 2, nz);
+    // Partners later in the sweep order, closer than rc, by id. Later means a neighbouring cell of a
+    // higher index, or this cell after i: the cells of lower index are skipped whole.
+    partners_.clear();
+    for (int a = 0; a < mx; ++a)
+      for (int b = 0; b < my; ++b)
+        for (int e = 0; e < mz; ++e) {
+          const int cell = (nx[a] * dims_[1] + ny[b]) * dims_[2] + nz[e];
+          if (cell < c) continue;
+          const std::uint32_t first =
+              cell == c ? static_cast<std::uint32_t>(k) + 1 : cell_start_[static_cast<std::size_t>(cell)];
+          for (std::uint32_t q = first; q < cell_start_[static_cast<std::size_t>(cell) + 1]; ++q) {
+            const std::uint32_t j = order_[q];
+            const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
+            const double dy = minimum_image(p.y[i] - p.y[j], len[1], half[1]);
+            const double dz = minimum_image(p.z[i] - p.z[j], len[2], half[2]);
+            if (dx * dx + dy * dy + dz * dz < rc2) partners_.push_back(j);
+          }
+        }
+    std::sort(partners_.begin(), partners_.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
+    const double mi = species_mass[static_cast<std::size_t>(p.species[i])];
+    for (const std::uint32_t j : partners_) {
+      const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
+      const double dy = minimum_image(p.y[i] - p.y[j], len[1], half[1]);
+      const double dz = minimum_image(p.z[i] - p.z[j], len[2], half[2]);
+      const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (r == 0.0) continue;  // no line of centres
+      const double ex = dx / r, ey = dy / r, ez = dz / r;
+      const double mj = species_mass[static_cast<std::size_t>(p.species[j])];
+      const double mu = mi * mj / (mi + mj);
+      const double u = ex * (p.vx[i] - p.vx[j]) + ey * (p.vy[i] - p.vy[j]) + ez * (p.vz[i] - p.vz[j]);
+      const Philox4x32 bits =
+          pair_random_bits(params_.seed, step, p.id[i], p.id[j], RngStream::PairThermostat);
+      double u_new = u;
+      if (params_.kind == PairThermostatKind::LoweAndersen) {
+        u_new = lowe_andersen_update(u, mu, params_.rate * dt, kT, bits.v);
+      } else {
+        const double om = 1.0 - r / rc;
+        const double wd = params_.s == 2.0 ? om * om : std::pow(om, params_.s);
+        u_new = params_.kind == PairThermostatKind::Shardlow
+                    ? shardlow_update(u, mu, params_.gamma * wd * dt, kT, bits.v)
+                    : peters_update(u, mu, params_.gamma * wd * dt, kT, bits.v);
+      }
+      ++pairs;
+      if (u_new == u) continue;
+      const double impulse = mu * (u_new - u);  // +impulse e on i, -impulse e on j
+      const double di = impulse / mi, dj = impulse / mj;
+      p.vx[i] += di * ex;
+      p.vy[i] += di * ey;
+      p.vz[i] += di * ez;
+      p.vx[j] -= dj * ex;
+      p.vy[j] -= dj * ey;
+      p.vz[j] -= dj * ez;
+    }
+  }
+  last_pairs_ = pairs;
+}
+
+}  // namespace mesodpd

@@ -1,0 +1,65 @@
+// Pairwise thermostats that act after a conservative velocity-Verlet step ([thermostat], issue 27):
+// Lowe-Andersen, Shardlow's S1 splitting and Peters' scheme. Each visits every pair closer than r_c once
+// per step and changes only the pair's relative velocity along the line of centres, e_ij, by an impulse
+// +P e_ij on i and -P e_ij on j: linear and angular momentum are kept pair by pair.
+//
+// The sweep is serial and visits the pairs in a fixed order that depends on the positions and ids alone
+// (cells of at least r_c numbered (c_x n_y + c_y) n_z + c_z; within a cell by id; each particle's later
+// partners by id), and every random number is a pure function of (seed, step, min id, max id)
+// (core/philox.hpp, stream PairThermostat). The result is therefore the same on any thread count, in
+// any storage order, and after a restart. The formulas are in docs/physics.md, section "Pairwise
+// thermostats".
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particle_data.hpp"
+
+namespace mesodpd {
+
+enum class PairThermostatKind : int { LoweAndersen = 0, Shardlow = 1, Peters = 2 };
+
+struct PairThermostatParams {
+  PairThermostatKind kind = PairThermostatKind::LoweAndersen;
+  double rate = 0.0;   // Gamma, collisions per pair per unit time (Lowe-Andersen)
+  double gamma = 0.0;  // friction of the dissipative force (Shardlow, Peters)
+  double rc = 1.0;     // cutoff of the thermostat's pairs
+  double s = 2.0;      // weight exponent: w_D = w_R^2 = (1 - r/rc)^s (Shardlow, Peters)
+  double kT = 1.0;
+  std::uint64_t seed = 1;
+};
+
+// The new relative velocity along e_ij, u' from u = e_ij . (v_i - v_j), of one pair with reduced mass
+// mu = m_i m_j / (m_i + m_j) and weight w_D (Shardlow, Peters); `bits` are the pair's four random words.
+// Lowe-Andersen draws u' from the pair's Maxwell distribution N(0, kT/mu) with probability rate dt and
+// otherwise returns u. All three leave N(0, kT/mu) invariant exactly, at any dt.
+double lowe_andersen_update(double u, double mu, double rate_dt, double kT, const std::uint32_t bits[4]);
+double shardlow_update(double u, double mu, double gamma_wd_dt, double kT, const std::uint32_t bits[4]);
+double peters_update(double u, double mu, double gamma_wd_dt, double kT, const std::uint32_t bits[4]);
+
+class PairThermostat {
+ public:
+  explicit PairThermostat(PairThermostatParams params) : params_(params) {}
+
+  // One sweep over the particles [0, p.n_local) of `box` (all of the system: one rank). `species_mass`
+  // by species index; `step` keys the random numbers.
+  void sweep(ParticleData& p, const Box& box, const std::vector<double>& species_mass, std::uint64_t step,
+             double dt);
+
+  const PairThermostatParams& params() const { return params_; }
+  // Pairs closer than rc in the last sweep (for tests and the cost notes).
+  std::uint64_t last_pairs() const { return last_pairs_; }
+
+ private:
+  // Sorts the particles into cells of at least rc, by (cell, id): order_ (the sweep order), cell_start_.
+  void bin(const ParticleData& p, const Box& box);
+
+  PairThermostatParams params_;
+  std::array<int, 3> dims_{1, 1, 1};
+  std::vector<std::uint32_t> cell_of_, cell_start_, order_, partners_;
+  std::uint64_t last_pairs_ = 0;
+};
+
+}  // namespace mesodpd
