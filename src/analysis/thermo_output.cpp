@@ -47,7 +47,12 @@ std::optional<std::string> temperature_warning(double mean_t, const SimulationSp
   const double noise = 3.0 * std::sqrt(2.0 / std::max(dof, 1.0) / static_cast<double>(std::max<std::uint64_t>(samples, 1)));
   if (!(std::fabs(deviation) > kTemperatureTolerance + noise)) return std::nullopt;
   std::string advice = fmt::format("reduce integrator.dt (now {})", spec.dt);
-  if (spec.integrator == IntegratorKind::GrootWarren && deviation > 0 && spec.lambda < 0.65)
+  // lambda predicts the velocity the dissipative force sees: no advice to raise it where no pair has
+  // friction (a conservative law, or a pairwise [thermostat] that does the dissipation itself). A spec
+  // not yet resolved (no pairs) has the default gamma = 4.5.
+  const bool friction = spec.pairs.empty() ||
+                        std::any_of(spec.pairs.begin(), spec.pairs.end(), [](const PairSpec& p) { return p.gamma > 0; });
+  if (spec.integrator == IntegratorKind::GrootWarren && deviation > 0 && spec.lambda < 0.65 && friction)
     advice += fmt::format(" or raise integrator.lambda (now {}; 0.65 keeps kT within 1% up to dt = 0.06 at rho = 3, "
                           "docs/validation.md)", spec.lambda);
   if (spec.integrator == IntegratorKind::Euler) advice += " or use integrator.type = \"groot-warren\"";

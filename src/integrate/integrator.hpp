@@ -1,7 +1,8 @@
 // Time integrators, split at the force evaluation: pre_force() advances positions and predicts the
-// velocity the forces will see; post_force() completes the velocity update. A new scheme (Shardlow
-// splitting, Lowe-Andersen) is one more alternative in IntegratorVariant plus, if it needs one, a stage
-// after post_force: Simulation::step() is unchanged otherwise.
+// velocity the forces will see; post_force() completes the velocity update. Schemes that act pair by
+// pair after the conservative step (Lowe-Andersen, Shardlow, Peters) are a model with a stage after
+// post_force instead ([thermostat], integrate/pair_thermostat.hpp); eDPD integrates its temperatures in
+// stages around the force stage (engine/install_edpd.cpp). Simulation::step() names none of them.
 #pragma once
 #include <variant>
 #include <vector>

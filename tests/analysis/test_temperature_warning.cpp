@@ -35,6 +35,17 @@ TEST(TemperatureWarning, AdviceFitsTheIntegrator) {
   const auto hot_065 = temperature_warning(1.2, spec, 3e5, 100);
   ASSERT_TRUE(hot_065);
   EXPECT_EQ(hot_065->find("lambda"), std::string::npos) << *hot_065;
+  // No pair friction (a pairwise [thermostat] does the dissipation): lambda is not the remedy.
+  spec.lambda = 0.5;
+  spec.pairs.assign(1, PairSpec{});
+  spec.pairs[0].gamma = 0.0;
+  const auto frictionless = temperature_warning(1.2, spec, 3e5, 100);
+  ASSERT_TRUE(frictionless);
+  EXPECT_EQ(frictionless->find("lambda"), std::string::npos) << *frictionless;
+  spec.pairs[0].gamma = 4.5;
+  const auto with_friction = temperature_warning(1.2, spec, 3e5, 100);
+  ASSERT_TRUE(with_friction);
+  EXPECT_NE(with_friction->find("lambda"), std::string::npos) << *with_friction;
   spec.integrator = IntegratorKind::Euler;
   const auto euler = temperature_warning(1.2, spec, 3e5, 100);
   ASSERT_TRUE(euler);
