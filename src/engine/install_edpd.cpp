@@ -34,6 +34,7 @@ constexpr double kEnergyScale = 1099511627776.0;  // 2^40: the fixed point of th
 struct EdpdSpecies {
   std::vector<double> cv;      // heat capacity per particle
   std::vector<double> start;   // starting temperature
+  std::vector<double> source;  // constant heat source per particle over C_v: its dT/dt
   std::vector<std::uint8_t> frozen;
 };
 
@@ -44,6 +45,7 @@ EdpdSpecies species_values(const SimulationSpec& spec) {
     const double t = sp.own.at("temperature");
     s.start.push_back(t > 0 ? t : spec.kT);  // a frozen species keeps it (half_step skips frozen particles)
     s.frozen.push_back(sp.frozen ? 1 : 0);
+    s.source.push_back(sp.own.at("heat_source") / sp.own.at("cv"));
   }
   return s;
 }
@@ -56,8 +58,9 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
   std::uint32_t bad = std::numeric_limits<std::uint32_t>::max();
   double bad_t = 0;
   for (std::size_t i = 0; i < p.n_local; ++i) {
-    if (s.frozen[static_cast<std::size_t>(p.species[i])]) continue;
-    p.temp[i] += h * p.temp_rate[i];
+    const auto k = static_cast<std::size_t>(p.species[i]);
+    if (s.frozen[k]) continue;
+    p.temp[i] += h * (p.temp_rate[i] + s.source[k]);
     if (!(p.temp[i] > 0) || !std::isfinite(p.temp[i])) {
       if (p.id[i] < bad) {
         bad = p.id[i];

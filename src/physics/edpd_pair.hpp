@@ -127,13 +127,16 @@ struct EdpdLaw {
       {"kappa_t4", -kInf, kInf, true, true, false, 0.0, "", "see `kappa_t1`."},
   }};
   // [[species]] keys: the heat capacity and the starting temperature of the species' particles.
-  static constexpr std::array<LawKey, 2> kSpeciesOwn{{
+  static constexpr std::array<LawKey, 3> kSpeciesOwn{{
       {"cv", 0.0, kInf, false, true, true, 0.0, "the heat capacity C_v per particle (LAMMPS's eDPD example: cv = 1e5)",
        "the heat capacity C_v per particle of this species (in units of k_B): U_i = C_v T_i."},
       {"temperature", 0.0, kInf, true, true, false, 0.0, "",
        "the starting internal temperature T_i of the species' particles; 0 (the default) means `system.kT`. For a "
        "frozen (wall) species: the temperature the wall is held at, through which it exchanges heat with the fluid; "
        "a wall species without it is adiabatic (no conduction)."},
+      {"heat_source", -kInf, kInf, true, true, false, 0.0, "",
+       "a constant heat source per particle of this species (energy per unit time; negative: a sink), added to "
+       "C_v dT_i/dt of its mobile particles (engine/install_edpd.cpp)."},
   }};
   static constexpr double kMinA = 0;
   static double heat_range(const PairValues& v) { return v.own[1] > 0 ? v.own[1] : v.rc; }

@@ -513,3 +513,22 @@ TEST(Edpd, AdiabaticWallsKeepTheFluidsEnergyAndThermalWallsTakeIt) {
   EXPECT_LT(drift_thermal, -15.0);  // the walls took most of the 0.3 C_v = 30 per particle of excess
   EXPECT_LT(t_thermal, 1.15);
 }
+
+// A species' constant heat source (heat_source, energy per particle and time) raises the total energy
+// at N q: here q = 0.5 for 10 time units on top of the time step's drift (0.032 per particle and time).
+TEST(Edpd, AHeatSourceAddsItsEnergy) {
+  std::string text = edpd_config(7.0, 0.01, 100.0, 0.02);
+  text.replace(text.find("cv = 100"), 9, "cv = 100.0\nheat_source = 0.5\n");
+  Simulation sim(parse_config(text, "q.toml"), RunOptions{});
+  for (int k = 0; k < 300; ++k) sim.step();
+  const double n = static_cast<double>(sim.particles().n_local);
+  auto energy = [&] {
+    const ThermoState t = sim.thermo();
+    return (t.kinetic_energy + t.potential_energy + internal_energy(sim, 100.0)) / n;
+  };
+  const double e0 = energy();
+  for (int k = 0; k < 1000; ++k) sim.step();
+  const double gained = energy() - e0;
+  std::printf("heat source 0.5 per particle for 10 time units: energy gained %.4f per particle\n", gained);
+  EXPECT_NEAR(gained, 5.0, 0.6);  // 5.0 from the source, ~0.3 from the drift
+}
