@@ -566,8 +566,8 @@ class BatchAccumulator {
       take_batch_overflow(b, pass_.fixed_limit, overflow_);
     // Pass 4: scatter. The pairs of one particle i are consecutive in the batch, so i's share is
     // summed in registers and added once per run.
-    if constexpr (C == 4) {
-      // Forces as below; the temperature rates of i and j each to their own particle.
+    if constexpr (C >= 3) {
+      // Forces (antisymmetric), and with C = 4 the temperature rates of i and j, each to its own particle.
       for (std::size_t k = 0; k < m;) {
         const std::size_t i = b.i[k];
         std::int64_t sx = 0, sy = 0, sz = 0, sh = 0;
@@ -576,33 +576,18 @@ class BatchAccumulator {
           sx += b.qx[k];
           sy += b.qy[k];
           sz += b.qz[k];
-          sh += b.qhi[k];
-          buf[4 * j] -= b.qx[k];
-          buf[4 * j + 1] -= b.qy[k];
-          buf[4 * j + 2] -= b.qz[k];
-          buf[4 * j + 3] += b.qhj[k];
+          buf[C * j] -= b.qx[k];
+          buf[C * j + 1] -= b.qy[k];
+          buf[C * j + 2] -= b.qz[k];
+          if constexpr (C == 4) {
+            sh += b.qhi[k];
+            buf[C * j + 3] += b.qhj[k];
+          }
         }
-        buf[4 * i] += sx;
-        buf[4 * i + 1] += sy;
-        buf[4 * i + 2] += sz;
-        buf[4 * i + 3] += sh;
-      }
-    } else if constexpr (C == 3) {
-      for (std::size_t k = 0; k < m;) {
-        const std::size_t i = b.i[k];
-        std::int64_t sx = 0, sy = 0, sz = 0;
-        for (; k < m && b.i[k] == i; ++k) {
-          const std::size_t j = b.j[k];
-          sx += b.qx[k];
-          sy += b.qy[k];
-          sz += b.qz[k];
-          buf[3 * j] -= b.qx[k];
-          buf[3 * j + 1] -= b.qy[k];
-          buf[3 * j + 2] -= b.qz[k];
-        }
-        buf[3 * i] += sx;
-        buf[3 * i + 1] += sy;
-        buf[3 * i + 2] += sz;
+        buf[C * i] += sx;
+        buf[C * i + 1] += sy;
+        buf[C * i + 2] += sz;
+        if constexpr (C == 4) buf[C * i + 3] += sh;
       }
     } else {
       for (std::size_t k = 0; k < m; ++k) {
