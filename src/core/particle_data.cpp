@@ -2,6 +2,7 @@
 #include "core/particle_data.hpp"
 
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 
 namespace mesodpd {
@@ -49,6 +50,15 @@ void ParticleData::enable(std::string_view name) {
     if (v.size() != n) v.resize(n, 0);
   });
   generation_ = next_generation();
+}
+
+std::vector<double>* ParticleData::doubles(std::string_view name) {
+  std::vector<double>* out = nullptr;
+  for_each_field([&](const FieldInfo& f, auto& v) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::vector<double>>)
+      if (name == f.name) out = &v;
+  });
+  return out;
 }
 
 void ParticleData::enable_mask(std::uint64_t mask) {

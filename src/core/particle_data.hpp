@@ -74,7 +74,17 @@ inline constexpr unsigned kOptional = 1u << 6;    // held only where a model ena
   X(double, temp, field::kOptional | field::kMigrate | field::kGhost | field::kRefresh | field::kCheckpoint |  \
                       field::kFrame)                                                                          \
   X(double, temp_rate, field::kOptional | field::kMigrate | field::kCheckpoint | field::kFrame | field::kForce) \
+  /* transport DPD (physics/tdpd_pair.hpp): up to 4 solute concentrations C_i^k and their rates dC/dt */     \
+  MESODPD_SOLUTE_FIELDS(X, 1)                                                                                 \
+  MESODPD_SOLUTE_FIELDS(X, 2)                                                                                 \
+  MESODPD_SOLUTE_FIELDS(X, 3)                                                                                 \
+  MESODPD_SOLUTE_FIELDS(X, 4)                                                                                 \
   MESODPD_EXTRA_PARTICLE_FIELDS(X)
+// One solute's concentration and rate (optional; the rate read across steps like temp_rate).
+#define MESODPD_SOLUTE_FIELDS(X, k)                                                                          \
+  X(double, conc##k, field::kOptional | field::kMigrate | field::kGhost | field::kRefresh | field::kCheckpoint | \
+                         field::kFrame)                                                                       \
+  X(double, conc_rate##k, field::kOptional | field::kMigrate | field::kCheckpoint | field::kFrame | field::kForce)
 
 // Name, flags and element type of one field, for code that handles fields by name (checkpoints).
 struct FieldInfo {
@@ -131,6 +141,12 @@ struct ParticleData {
   void enable(std::string_view name);
   std::uint64_t optional_mask() const { return optional_on_; }
   void enable_mask(std::uint64_t mask);
+  // A held field of doubles by name ("temp", "conc1"), or nullptr where there is none of that name and
+  // type or it is not enabled: for code that is told its fields by name (a law's kScalarFields).
+  std::vector<double>* doubles(std::string_view name);
+  const std::vector<double>* doubles(std::string_view name) const {
+    return const_cast<ParticleData*>(this)->doubles(name);
+  }
 
   // Calls f(info, vector) for every field that is held (the fixed ones and the enabled optional ones),
   // in list order.

@@ -47,8 +47,10 @@ MESODPD_HD double u01_open(std::uint32_t w) { return (static_cast<double>(w) + 0
 
 // Streams separate independent uses of one seed (pair noise, initial velocities, placement, ...).
 // PairThermostat: the pair draws of [thermostat] (integrate/pair_thermostat.hpp).
+// ScalarNoise, ScalarNoise2: the antisymmetric noises of a law's scalars 1-2 and 3 (pair_noise_with_scalars).
 enum class RngStream : std::uint32_t {
-  PairNoise = 1, InitVelocity = 2, InitPosition = 3, WallReflection = 4, InitMolecule = 5, PairThermostat = 6
+  PairNoise = 1, InitVelocity = 2, InitPosition = 3, WallReflection = 4, InitMolecule = 5, PairThermostat = 6,
+  ScalarNoise = 7, ScalarNoise2 = 8
 };
 
 // Symmetric pair noise: one draw per unordered pair (i, j) per step. The key holds the seed;
@@ -84,16 +86,32 @@ MESODPD_HD double pair_noise(std::uint64_t seed, std::uint64_t step, std::uint32
   return kind == NoiseKind::Uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
 }
 
-// The pair noise xi of pair_noise (the same bits) and, from the same draw's other two words, a second
-// unit-variance noise that is antisymmetric: xe(a, b) = -xe(b, a), positive sign for id_a < id_b. The
-// fluctuating heat flux of eDPD (physics/edpd_pair.hpp) reads it.
-MESODPD_HD void pair_noise_with_antisymmetric(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a,
-                                              std::uint32_t id_b, NoiseKind kind, double& xi, double& xe) {
+// A unit-variance variate of either kind from two words (a uniform one reads the first).
+MESODPD_HD double unit_noise(NoiseKind kind, std::uint32_t w0, std::uint32_t w1) {
+  return kind == NoiseKind::Uniform ? uniform_unit_variance(w0) : gaussian_unit(w0, w1);
+}
+
+// The pair noise xi of pair_noise (the same bits) and n <= 4 unit-variance noises that are antisymmetric,
+// xs(a, b) = -xs(b, a) with the positive sign for id_a < id_b, for the scalars a law transports
+// (physics/pair_force.hpp, kScalars: eDPD's fluctuating heat flux, tDPD's random solute fluxes). The
+// first comes from the other two words of xi's draw; scalars 1 and 2 from one draw of
+// RngStream::ScalarNoise, scalar 3 from one of ScalarNoise2 (each draw: words 0-1, then 2-3; a uniform
+// variate reads the first word of its pair).
+MESODPD_HD void pair_noise_with_scalars(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a, std::uint32_t id_b,
+                                        NoiseKind kind, double& xi, double* xs, int n) {
+  const double sign = id_a < id_b ? 1.0 : -1.0;
   const Philox4x32 r = pair_random_bits(seed, step, id_a, id_b, RngStream::PairNoise);
-  const bool uniform = kind == NoiseKind::Uniform;
-  xi = uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
-  const double e = uniform ? uniform_unit_variance(r.v[2]) : gaussian_unit(r.v[2], r.v[3]);
-  xe = id_a < id_b ? e : -e;
+  xi = unit_noise(kind, r.v[0], r.v[1]);
+  if (n > 0) xs[0] = sign * unit_noise(kind, r.v[2], r.v[3]);
+  if (n > 1) {
+    const Philox4x32 q = pair_random_bits(seed, step, id_a, id_b, RngStream::ScalarNoise);
+    xs[1] = sign * unit_noise(kind, q.v[0], q.v[1]);
+    if (n > 2) xs[2] = sign * unit_noise(kind, q.v[2], q.v[3]);
+  }
+  if (n > 3) {
+    const Philox4x32 q = pair_random_bits(seed, step, id_a, id_b, RngStream::ScalarNoise2);
+    xs[3] = sign * unit_noise(kind, q.v[0], q.v[1]);
+  }
 }
 
 }  // namespace mesodpd

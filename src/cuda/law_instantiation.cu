@@ -41,17 +41,20 @@ __global__ void pair_law_kernel(const typename Law::template Params<Real>* param
     in.rho_i = static_cast<Real>(rho[2 * k]);
     in.rho_j = static_cast<Real>(rho[2 * k + 1]);
   }
-  if constexpr (law_has_temperature<Law>) {  // eDPD: both temperatures (here in rho's place), the heat noise
-    double xi = 0, xe = 0;
-    pair_noise_with_antisymmetric(seed, step, ids[2 * k], ids[2 * k + 1], NoiseKind::Uniform, xi, xe);
-    in.xe = static_cast<Real>(xe);
-    in.ti = static_cast<Real>(rho[2 * k]);
-    in.tj = static_cast<Real>(rho[2 * k + 1]);
+  constexpr int kScalars = law_scalars<Law>;
+  if constexpr (kScalars > 0) {  // eDPD, tDPD: each particle's scalars (here in rho's place), their noises
+    double xi = 0, xs[kMaxScalars] = {};
+    pair_noise_with_scalars(seed, step, ids[2 * k], ids[2 * k + 1], NoiseKind::Uniform, xi, xs, kScalars);
+    for (int c = 0; c < kScalars; ++c) {
+      in.xs[c] = static_cast<Real>(xs[c]);
+      in.si[c] = static_cast<Real>(rho[2 * kScalars * k + c]);
+      in.sj[c] = static_cast<Real>(rho[2 * kScalars * k + kScalars + c]);
+    }
   }
   const PairForceT<Real> f = Eval{}(params[k], in);
-  if constexpr (law_has_temperature<Law>) {
-    force_out[3 * n + 2 * k] = to_fixed(static_cast<double>(f.qi), kForceScale);
-    force_out[3 * n + 2 * k + 1] = to_fixed(static_cast<double>(f.qj), kForceScale);
+  for (int c = 0; c < kScalars; ++c) {
+    force_out[3 * n + 2 * kScalars * k + c] = to_fixed(static_cast<double>(f.qi[c]), kForceScale);
+    force_out[3 * n + 2 * kScalars * k + kScalars + c] = to_fixed(static_cast<double>(f.qj[c]), kForceScale);
   }
   const PairForceVector fv = pair_force_vector(f, inv_r, dx, dy, dz);
   const PairForceFixed q = to_fixed(fv);

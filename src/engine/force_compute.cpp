@@ -248,12 +248,13 @@ inline void for_each_pair_params(const PairBatch& b, std::size_t m, const Params
 //   evaluate(b, m, local)  fills b.qx (.qy, .qz) for batch entries [0, m) and adds to the sums.
 
 // A force law `Eval` of law `Law` (physics/*.hpp).
-// A law with per-particle temperatures (kTemperature, eDPD) adds a fourth component, the temperature
-// rate, which is not antisymmetric: the pair's contributions to i and j come separately (qhi, qhj).
+// A law with per-particle scalars (kScalars: eDPD's temperature, tDPD's concentrations) adds a component
+// per scalar, its rate, which is not antisymmetric in general: the pair's contributions to i and j come
+// separately (qhi, qhj). Only the first n_scalars are held in a run; the others are zeros throughout.
 template <class Law, class Eval, bool kSums>
 struct ForcePass {
-  static constexpr bool kTemperature = law_has_temperature<Law>;
-  static constexpr int kComponents = kTemperature ? 4 : 3;
+  static constexpr int kScalars = law_scalars<Law>;
+  static constexpr int kComponents = 3 + kScalars;
   static constexpr bool kSymmetric = false;
   static constexpr bool kVelocity = Law::kVelocity;
   static constexpr bool kNoise = Law::kNoise;
@@ -268,6 +269,7 @@ struct ForcePass {
   const double* rho = nullptr;
   double fixed_limit = kPairFixedLimit;  // PairJob::fixed_limit
   const std::uint32_t* ids = nullptr;    // global ids of the stored particles, for overflow reports
+  int n_scalars = 0;                     // PairJob::n_scalars
 
   void evaluate(PairBatch& b, std::size_t m, std::int64_t* local) const {
     // Pair k with the parameters pp of its species pair.
@@ -281,15 +283,15 @@ struct ForcePass {
         in.rho_i = static_cast<PairReal>(rho[b.i[k]]);
         in.rho_j = static_cast<PairReal>(rho[b.j[k]]);
       }
-      if constexpr (kTemperature) {
-        in.ti = static_cast<PairReal>(b.it[k]);
-        in.tj = static_cast<PairReal>(b.jt[k]);
-        in.xe = b.xe[k];
+      for (int c = 0; c < kScalars; ++c) {
+        in.si[c] = static_cast<PairReal>(b.si[c][k]);
+        in.sj[c] = static_cast<PairReal>(b.sj[c][k]);
+        in.xs[c] = b.xs[c][k];
       }
       const PairForceT<PairReal> f = eval(pp, in);
-      if constexpr (kTemperature) {
-        b.hi[k] = f.qi;
-        b.hj[k] = f.qj;
+      for (int c = 0; c < kScalars; ++c) {
+        b.hi[c][k] = f.qi[c];
+        b.hj[c][k] = f.qj[c];
       }
       const PairForceVector fv = pair_force_vector(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
       if constexpr (!kSums) {
@@ -321,11 +323,12 @@ struct ForcePass {
       }
     };
     for_each_pair_params(b, m, params, ns, species, pair);
-    if constexpr (kTemperature) {
-      bool out = to_fixed_array(b.hi, b.qhi, m, kForceScale, fixed_limit);
-      out |= to_fixed_array(b.hj, b.qhj, m, kForceScale, fixed_limit);
+    for (int c = 0; c < n_scalars; ++c) {
+      bool out = to_fixed_array(b.hi[c], b.qhi[c], m, kForceScale, fixed_limit);
+      out |= to_fixed_array(b.hj[c], b.qhj[c], m, kForceScale, fixed_limit);
       if (out) [[unlikely]]
-        note_overflow_in(b, m, kForceScale, fixed_limit, ids, b.hi, b.hj, nullptr, FixedPointOverflow::What::PairForce);
+        note_overflow_in(b, m, kForceScale, fixed_limit, ids, b.hi[c], b.hj[c], nullptr,
+                         FixedPointOverflow::What::ScalarRate);
     }
     if constexpr (!kSums) {
       bool out = to_fixed_array(b.fx, b.qx, m, kForceScale, fixed_limit);
@@ -341,7 +344,7 @@ struct ForcePass {
 template <class Kernel>
 struct DensityPass {
   static constexpr int kComponents = 1;
-  static constexpr bool kTemperature = false;
+  static constexpr int kScalars = 0;
   static constexpr bool kSymmetric = true;
   static constexpr bool kVelocity = false;
   static constexpr bool kNoise = false;
@@ -378,7 +381,9 @@ struct BatchGeometry {
   std::uint64_t seed;
   NoiseKind kind;
   std::uint64_t step;
-  const double* temp;  // internal temperatures (p.temp) for passes with kTemperature, else nullptr
+  // Passes with kScalars: the held scalars (PairJob::scalar), n_scalars of them.
+  int n_scalars = 0;
+  const double* const* scalar = nullptr;
 };
 
 // Moves the batch's out-of-range pair (PairBatch::overflow) into `found`, which keeps the pair with the
@@ -434,7 +439,17 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
       b.jvz[k] = vz[j];
     }
     if constexpr (Pass::kNoise) b.jid[k] = id[j];
-    if constexpr (Pass::kTemperature) b.jt[k] = g.temp[j];
+  }
+  // The scalars of j; a channel the run does not hold is zero for the law (and its noise too).
+  for (int c = 0; c < Pass::kScalars; ++c) {
+    if (c < g.n_scalars) {
+      const double* __restrict sc = g.scalar[c];
+      for (std::size_t k = 0; k < m; ++k) b.sj[c][k] = sc[b.j[k]];
+    } else {
+      std::fill_n(b.si[c], m, 0.0);
+      std::fill_n(b.sj[c], m, 0.0);
+      std::fill_n(b.xs[c], m, PairReal(0));
+    }
   }
   // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
   for (std::size_t k = 0; k < m; ++k) {
@@ -458,14 +473,15 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
                   inv_r;
     }
   }
-  // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution; with temperatures also
-  // the antisymmetric heat noise from the same draw.
-  if constexpr (Pass::kTemperature) {
+  // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution; with scalars also
+  // their antisymmetric noises (the first from the same draw).
+  if constexpr (Pass::kScalars > 0) {
+    const int ns = g.n_scalars;
     for (std::size_t k = 0; k < m; ++k) {
-      double xi, xe;
-      pair_noise_with_antisymmetric(seed, step, b.iid[k], b.jid[k], kind, xi, xe);
+      double xi, xs[kMaxScalars];
+      pair_noise_with_scalars(seed, step, b.iid[k], b.jid[k], kind, xi, xs, ns);
       b.xi[k] = static_cast<PairReal>(xi);
-      b.xe[k] = static_cast<PairReal>(xe);
+      for (int c = 0; c < ns; ++c) b.xs[c][k] = static_cast<PairReal>(xs[c]);
     }
   } else if constexpr (Pass::kNoise) {
     if (kind == NoiseKind::Uniform) {
@@ -538,9 +554,9 @@ class BatchAccumulator {
     const auto px = hn::Set(dd, geo_.x[i]), py = hn::Set(dd, geo_.y[i]), pz = hn::Set(dd, geo_.z[i]);
     const auto pvx = hn::Set(dd, geo_.vx[i]), pvy = hn::Set(dd, geo_.vy[i]), pvz = hn::Set(dd, geo_.vz[i]);
     const auto pi = hn::Set(du, i), pid = hn::Set(du, geo_.id[i]);
-    if constexpr (Pass::kTemperature) {
-      const auto pt = hn::Set(dd, geo_.temp[i]);
-      for (std::size_t k = m0; k < m; k += nd) hn::StoreU(pt, dd, b.it + k);
+    for (int c = 0; c < Pass::kScalars && c < geo_.n_scalars; ++c) {
+      const auto pt = hn::Set(dd, geo_.scalar[c][i]);
+      for (std::size_t k = m0; k < m; k += nd) hn::StoreU(pt, dd, b.si[c] + k);
     }
     for (std::size_t k = m0; k < m; k += nd) {
       hn::StoreU(px, dd, b.ix + k);
@@ -567,10 +583,12 @@ class BatchAccumulator {
     // Pass 4: scatter. The pairs of one particle i are consecutive in the batch, so i's share is
     // summed in registers and added once per run.
     if constexpr (C >= 3) {
-      // Forces (antisymmetric), and with C = 4 the temperature rates of i and j, each to its own particle.
+      // Forces (antisymmetric), and with scalars their rates at i and j, each to its own particle.
+      constexpr int S = C - 3;
+      const int ns = geo_.n_scalars;
       for (std::size_t k = 0; k < m;) {
         const std::size_t i = b.i[k];
-        std::int64_t sx = 0, sy = 0, sz = 0, sh = 0;
+        std::int64_t sx = 0, sy = 0, sz = 0, sh[S > 0 ? S : 1] = {};
         for (; k < m && b.i[k] == i; ++k) {
           const std::size_t j = b.j[k];
           sx += b.qx[k];
@@ -579,15 +597,15 @@ class BatchAccumulator {
           buf[C * j] -= b.qx[k];
           buf[C * j + 1] -= b.qy[k];
           buf[C * j + 2] -= b.qz[k];
-          if constexpr (C == 4) {
-            sh += b.qhi[k];
-            buf[C * j + 3] += b.qhj[k];
+          for (int c = 0; c < S && c < ns; ++c) {
+            sh[c] += b.qhi[c][k];
+            buf[C * j + 3 + c] += b.qhj[c][k];
           }
         }
         buf[C * i] += sx;
         buf[C * i + 1] += sy;
         buf[C * i + 2] += sz;
-        if constexpr (C == 4) buf[C * i + 3] += sh;
+        for (int c = 0; c < S && c < ns; ++c) buf[C * i + 3 + c] += sh[c];
       }
     } else {
       for (std::size_t k = 0; k < m; ++k) {
@@ -855,7 +873,7 @@ void traverse_verlet(const NeighborList& list, std::size_t n, const std::uint32_
 // integers go to ws.fixed, and the caller returns the ghost totals to their owners before converting.
 template <int C>
 void reduce_thread_buffers(PairWorkspace& ws, int nthreads, std::size_t n, std::size_t ntot, bool ghosts,
-                           ParticleData& p, double* out) {
+                           ParticleData& p, double* out, double* const* rate, int n_scalars) {
   if (!ghosts) {
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
@@ -871,7 +889,7 @@ void reduce_thread_buffers(PairWorkspace& ws, int nthreads, std::size_t n, std::
         p.fx[i] = static_cast<double>(s[0]) * kForceUnscale;
         p.fy[i] = static_cast<double>(s[1]) * kForceUnscale;
         p.fz[i] = static_cast<double>(s[2]) * kForceUnscale;
-        if constexpr (C == 4) p.temp_rate[i] = static_cast<double>(s[C - 1]) * kForceUnscale;
+        for (int c = 0; c < C - 3 && c < n_scalars; ++c) rate[c][i] = static_cast<double>(s[3 + c]) * kForceUnscale;
       } else {
         out[i] = static_cast<double>(s[0]) * kForceUnscale;
       }
@@ -909,7 +927,7 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
                           p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
                           box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
                           box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
-                          Pass::kTemperature ? p.temp.data() : nullptr};
+                          Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar};
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
@@ -931,7 +949,7 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
     }
     acc.finish(job.totals, job.overflow);
 #pragma omp barrier
-    reduce_thread_buffers<C>(ws, nthreads, n, ntot, ghosts, p, job.out);
+    reduce_thread_buffers<C>(ws, nthreads, n, ntot, ghosts, p, job.out, job.rate, job.n_scalars);
   }
 }
 
@@ -939,9 +957,9 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
 // results subtracted. Serial; the lists are short (bonded pairs).
 template <class Pass, bool kSums>
 void run_listed(PairJob& job, const Pass& pass) {
-  // Listed pairs subtract forces only (3 integers per particle); laws with temperatures are refused
-  // with bonds.exclude by the spec's checks.
-  if constexpr (Pass::kTemperature) throw std::logic_error("ForceCompute::subtract_pairs: not for a law with temperatures");
+  // Listed pairs subtract forces only (3 integers per particle); laws with scalars are refused with
+  // bonds.exclude by their installers.
+  if constexpr (Pass::kScalars > 0) throw std::logic_error("ForceCompute::subtract_pairs: not for a law with scalars");
   const ParticleData& p = *job.p;
   const Box& box = *job.box;
   PairWorkspace& ws = *job.ws;
@@ -951,7 +969,7 @@ void run_listed(PairJob& job, const Pass& pass) {
                           p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
                           box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
                           box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
-                          Pass::kTemperature ? p.temp.data() : nullptr};
+                          Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar};
   std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::int64_t* f = job.subtract_into;
   for (std::size_t k0 = 0; k0 < job.n_pairs; k0 += PairBatch::kCapacity) {
@@ -1018,6 +1036,7 @@ void run_pair_job(PairJob& job) {
               pass.rho = job.rho;
               pass.fixed_limit = job.fixed_limit;
               pass.ids = job.p->id.data();
+              pass.n_scalars = job.n_scalars;
               if (job.pairs != nullptr)
                 run_listed<decltype(pass), kSums>(job, pass);
               else
@@ -1142,22 +1161,38 @@ void ForceCompute::compute(ParticleData& p, const Box& box, const NeighborList& 
   job.ws = ws_.get();
   job.fixed_limit = fixed_limit_ = pair_fixed_limit(list, p);
   job.exchange = halo != nullptr && halo->active();
-  const bool temperature = std::visit([](const auto& t) { return law_has_temperature<typename std::decay_t<decltype(t)>::LawType>; }, laws_);
-  if (temperature && (!p.enabled("temp") || !p.enabled("temp_rate")))
-    throw std::logic_error("ForceCompute::compute: this pair law reads temperatures; enable p.temp and p.temp_rate");
+  // A law with scalars: the leading ones of its fields that the particles hold (a model enables them).
+  std::visit(
+      [&](const auto& t) {
+        using Law = typename std::decay_t<decltype(t)>::LawType;
+        if constexpr (law_scalars<Law> > 0) {
+          for (int c = 0; c < law_scalars<Law>; ++c) {
+            std::vector<double>* v = p.doubles(Law::kScalarFields[static_cast<std::size_t>(c)]);
+            std::vector<double>* r = p.doubles(Law::kScalarRates[static_cast<std::size_t>(c)]);
+            if (v == nullptr || r == nullptr) break;
+            job.scalar[c] = v->data();
+            job.rate[c] = r->data();
+            job.n_scalars = c + 1;
+          }
+          if (job.n_scalars == 0)
+            throw std::logic_error("ForceCompute::compute: this pair law transports particle scalars; enable p." +
+                                   std::string(Law::kScalarFields[0]) + " and p." + std::string(Law::kScalarRates[0]));
+        }
+      },
+      laws_);
   HWY_DYNAMIC_DISPATCH(run_pair_job)(job);
   note(job.overflow);
   const std::size_t n = p.n_local;
   if (p.n_ghost > 0 || job.exchange) {
     std::int64_t* fixed = ws_->fixed.data();
-    const int c = temperature ? 4 : 3;
+    const int c = 3 + std::visit([](const auto& t) { return law_scalars<typename std::decay_t<decltype(t)>::LawType>; }, laws_);
     if (halo != nullptr) halo->reverse_sums(fixed, c, p);
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       p.fx[i] = static_cast<double>(fixed[c * i]) * kForceUnscale;
       p.fy[i] = static_cast<double>(fixed[c * i + 1]) * kForceUnscale;
       p.fz[i] = static_cast<double>(fixed[c * i + 2]) * kForceUnscale;
-      if (temperature) p.temp_rate[i] = static_cast<double>(fixed[c * i + 3]) * kForceUnscale;
+      for (int q = 0; q < job.n_scalars; ++q) job.rate[q][i] = static_cast<double>(fixed[c * i + 3 + q]) * kForceUnscale;
     }
   }
   if (with_sums) {

@@ -81,7 +81,7 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
 
 void install_edpd(Installation& in) {
   const SimulationSpec& spec = in.spec;
-  if (!pair_law(spec.pair_style).temperature) return;
+  if (pair_law(spec.pair_style).style != EdpdLaw::kStyle) return;
   // Not yet with eDPD (each a clear refusal rather than wrong physics): bonded exclusions (they subtract
   // forces only, not heat) and the Euler integrator (the temperature step is the velocity-Verlet one).
   if (spec.bond_exclusion != BondExclusion::None)

@@ -19,7 +19,7 @@ void install_thermostat(Installation& in) {
   check_thermostat(*t, in.spec);  // again, for specs built in code
   // A law with particle temperatures (eDPD) conserves energy with its own friction and heat: a sweep that
   // changes the kinetic energy behind its back would break that.
-  if (pair_law(in.spec.pair_style).temperature)
+  if (pair_law(in.spec.pair_style).style == "edpd")
     throw SpecError("pair.style", "\"" + std::string(pair_law(in.spec.pair_style).style) + "\"",
                     "[thermostat] is not supported with a law that carries particle temperatures (its energy "
                     "balance has no place for the thermostat's heat)");

@@ -26,7 +26,7 @@ struct NoiseSettings {
 // A pair whose contribution left the range the fixed-point sums hold (engine/fixed_point.hpp): the
 // run cannot go on with correct sums. `value` is the offending quantity in reduced units (NaN stays NaN).
 struct FixedPointOverflow {
-  enum class What { PairForce, PairVirial, Density };
+  enum class What { PairForce, PairVirial, Density, ScalarRate };  // ScalarRate: dT/dt, dC/dt (kScalars)
   What what = What::PairForce;
   std::uint32_t id_a = 0, id_b = 0;  // the pair's global ids (both 0 when only a total overflowed)
   double value = 0;

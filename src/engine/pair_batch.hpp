@@ -11,6 +11,7 @@
 
 #include "engine/fixed_point.hpp"
 #include "engine/force_compute.hpp"
+#include "physics/pair_force.hpp"
 
 namespace mesodpd {
 
@@ -44,12 +45,13 @@ struct PairBatch {
   alignas(64) std::int64_t qx[kCapacity];
   alignas(64) std::int64_t qy[kCapacity];
   alignas(64) std::int64_t qz[kCapacity];
-  // Laws with per-particle temperatures (kTemperature): both temperatures, the antisymmetric heat noise,
-  // the temperature rates of i and j in double and in fixed point.
-  alignas(64) double it[kCapacity + kSlack], jt[kCapacity + kSlack];
-  alignas(64) PairReal xe[kCapacity];
-  alignas(64) double hi[kCapacity], hj[kCapacity];
-  alignas(64) std::int64_t qhi[kCapacity], qhj[kCapacity];
+  // Laws with per-particle scalars (kScalars; physics/pair_force.hpp), per scalar: its values at i and
+  // j, the antisymmetric noise, the rates of i and j in double and in fixed point. Channels a run does
+  // not use hold zeros (evaluate_batch).
+  alignas(64) double si[kMaxScalars][kCapacity + kSlack], sj[kMaxScalars][kCapacity + kSlack];
+  alignas(64) PairReal xs[kMaxScalars][kCapacity];
+  alignas(64) double hi[kMaxScalars][kCapacity], hj[kMaxScalars][kCapacity];
+  alignas(64) std::int64_t qhi[kMaxScalars][kCapacity], qhj[kMaxScalars][kCapacity];
   // Candidates of the current cell, nearest-image coordinates relative to a particle of the cell.
   std::vector<PairReal> cand_x, cand_y, cand_z;
   std::vector<std::uint32_t> cand_j;
@@ -71,7 +73,8 @@ struct PairWorkspace {
 };
 
 // One pair computation. Forces: `laws` set, results in p.f{x,y,z} (no ghosts) or `ws->fixed` (3 per
-// particle; 4 for a law with temperatures, whose rates go to p.temp_rate). Density: `density` set, results in `out` (no ghosts) or `ws->fixed` (1 per particle).
+// particle; 3 + kScalars for a law with scalars, whose rates go to `rate`). Density: `density` set,
+// results in `out` (no ghosts) or `ws->fixed` (1 per particle).
 struct PairJob {
   ParticleData* p = nullptr;
   const Box* box = nullptr;
@@ -80,6 +83,11 @@ struct PairJob {
   const DensitySettings* density = nullptr;
   const double* rho = nullptr;  // local density of locals and ghosts, for laws with kDensity
   double* out = nullptr;
+  // A law with scalars (kScalars): the first n_scalars of its kScalarFields are held, read from
+  // `scalar` and their rates written to `rate` (the ghost path leaves them in ws->fixed).
+  int n_scalars = 0;
+  const double* scalar[kMaxScalars] = {};
+  double* rate[kMaxScalars] = {};
   std::uint64_t step = 0;
   double dt = 1;
   NoiseSettings noise;

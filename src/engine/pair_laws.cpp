@@ -50,7 +50,12 @@ void add_infos(std::vector<PairLawInfo>& out) {
     constexpr auto species_keys = law_species_keys<Law>();
     static_assert(species_keys.size() <= PairValues::kMaxSpeciesOwn, "more species keys than PairValues holds");
     info.species_own.assign(species_keys.begin(), species_keys.end());
-    info.temperature = law_has_temperature<Law>;
+    info.scalars = law_scalars<Law>;
+    if constexpr (law_scalars<Law> > 0) {
+      static_assert(Law::kScalarFields.size() == law_scalars<Law> && Law::kScalarRates.size() == law_scalars<Law>);
+      info.scalar_fields.assign(Law::kScalarFields.begin(), Law::kScalarFields.end());
+      info.scalar_rates.assign(Law::kScalarRates.begin(), Law::kScalarRates.end());
+    }
     info.min_a = Law::kMinA;
     info.noise = Law::kNoise;
     info.density = Law::kDensity;

@@ -82,7 +82,8 @@ struct PairLawInfo {
   std::vector<LawKey> species_own;                        // its [[species]] keys (kSpeciesOwn)
   double min_a = 0;                                       // the lowest a allowed
   bool noise = true, density = false;                     // kNoise, kDensity
-  bool temperature = false;                               // kTemperature (per-particle temperatures)
+  int scalars = 0;                                        // kScalars (per-particle transported scalars)
+  std::vector<std::string_view> scalar_fields, scalar_rates;  // their particle fields (kScalarFields, kScalarRates)
   double (*range)(const PairValues&) = nullptr;
   LawProblem (*problem)(const PairValues&) = nullptr;
 };

@@ -121,11 +121,19 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
                       std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
                       const double* rho, std::vector<double>* rate) {
   std::vector<std::array<std::int64_t, 3>> q(p.n_local, {0, 0, 0});
-  std::vector<std::int64_t> qh(p.n_local, 0);  // temperature rates (laws with kTemperature)
+  std::vector<std::array<std::int64_t, kMaxScalars>> qh(p.n_local, {0, 0, 0, 0});  // scalar rates (kScalars)
+  int ns = 0;  // the law's scalars that p holds (a leading subset, as in the shared loop)
   std::int64_t total[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::visit(
       [&](const auto& lt) {
         using Law = typename std::decay_t<decltype(lt)>::LawType;
+        const std::vector<double>* sc[kMaxScalars] = {};
+        if constexpr (law_scalars<Law> > 0)
+          for (int c = 0; c < law_scalars<Law>; ++c) {
+            sc[c] = p.doubles(Law::kScalarFields[static_cast<std::size_t>(c)]);
+            if (sc[c] == nullptr) break;
+            ns = c + 1;
+          }
         Law::with_evaluator(lt.table.params, [&](auto eval) {
           for_each_pair(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx, double dy,
                                                           double dz, double r) {
@@ -141,16 +149,20 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
               in.rho_i = rho[i];
               in.rho_j = rho[j];
             }
-            if constexpr (law_has_temperature<Law>) {
-              pair_noise_with_antisymmetric(noise.seed, step, p.id[i], p.id[j], noise.kind, in.xi, in.xe);
-              in.ti = p.temp[i];
-              in.tj = p.temp[j];
+            if constexpr (law_scalars<Law> > 0) {
+              pair_noise_with_scalars(noise.seed, step, p.id[i], p.id[j], noise.kind, in.xi, in.xs, ns);
+              for (int c = 0; c < ns; ++c) {
+                in.si[c] = (*sc[c])[i];
+                in.sj[c] = (*sc[c])[j];
+              }
             } else {
               in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
             }
             const PairForceT<double> pf = eval(pp, in);
-            qh[i] += to_fixed(pf.qi, kForceScale);
-            qh[j] += to_fixed(pf.qj, kForceScale);
+            for (int c = 0; c < ns; ++c) {
+              qh[i][c] += to_fixed(pf.qi[c], kForceScale);
+              qh[j][c] += to_fixed(pf.qj[c], kForceScale);
+            }
             const PairForceVector fv = pair_force_vector(pf, inv_r, dx, dy, dz);
             const PairForceFixed fq = to_fixed(fv);
             q[i][0] += fq.x;
@@ -168,8 +180,10 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t c = 0; c < 3; ++c) f[i][c] = static_cast<double>(q[i][c]) * kForceUnscale;
   if (rate != nullptr) {
-    rate->assign(p.n_local, 0.0);
-    for (std::size_t i = 0; i < p.n_local; ++i) (*rate)[i] = static_cast<double>(qh[i]) * kForceUnscale;
+    rate->assign(static_cast<std::size_t>(ns) * p.n_local, 0.0);
+    for (int c = 0; c < ns; ++c)
+      for (std::size_t i = 0; i < p.n_local; ++i)
+        (*rate)[static_cast<std::size_t>(c) * p.n_local + i] = static_cast<double>(qh[i][c]) * kForceUnscale;
   }
   for (std::size_t c = 0; c < 6; ++c) sums.virial[c] = static_cast<double>(total[c]) * kVirialUnscale;
   sums.virial_conservative = static_cast<double>(total[6]) * kVirialUnscale;
@@ -187,6 +201,10 @@ void for_each_conservative_pair(const ParticleData& p, const Box& box, const Pai
   std::visit(
       [&](const auto& lt) {
         using Law = typename std::decay_t<decltype(lt)>::LawType;
+        const std::vector<double>* sc[kMaxScalars] = {};
+        if constexpr (law_scalars<Law> > 0)
+          for (int c = 0; c < law_scalars<Law>; ++c)
+            if ((sc[c] = p.doubles(Law::kScalarFields[static_cast<std::size_t>(c)])) == nullptr) break;
         Law::with_evaluator(lt.table.params, [&](auto eval) {
           for_each_pair_binned(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx, double dy,
                                                                  double dz, double r) {
@@ -197,9 +215,9 @@ void for_each_conservative_pair(const ParticleData& p, const Box& box, const Pai
               in.rho_i = rho[i];
               in.rho_j = rho[j];
             }
-            if (!p.temp.empty()) {  // a law with temperatures (its conservative amplitude may depend on them)
-              in.ti = p.temp[i];
-              in.tj = p.temp[j];
+            for (int c = 0; c < kMaxScalars && sc[c] != nullptr; ++c) {  // eDPD's amplitude depends on T
+              in.si[c] = (*sc[c])[i];
+              in.sj[c] = (*sc[c])[j];
             }
             visit(i, j, dx, dy, dz, r, eval(lt.table(p.species[i], p.species[j]), in).fc);
           });

@@ -26,7 +26,8 @@ void reference_pairs(const ParticleData& p, const Box& box, double cutoff, bool 
 // Pair forces on the local particles of `p` (a single domain, no ghosts) at step `step`: writes f[i]
 // and the pair sums. Sums are accumulated per pair in the engine's fixed point, so in the double build
 // the fast loop must agree bit for bit. `rho` (one entry per particle) for laws with kDensity. For a law
-// with temperatures (kTemperature; p.temp enabled), `rate` (if given) receives dT_i/dt.
+// with scalars (kScalars; its fields enabled), `rate` (if given) receives their rates, scalar c of
+// particle i at c * n_local + i.
 void reference_forces(const ParticleData& p, const Box& box, const PairLawTables& laws, NoiseSettings noise,
                       std::uint64_t step, double dt, std::vector<std::array<double, 3>>& f, PairSums& sums,
                       const double* rho = nullptr, std::vector<double>* rate = nullptr);

@@ -498,6 +498,14 @@ void Simulation::report_overflow(const std::optional<FixedPointOverflow>& mine, 
                                   "ids {} and {} left the range of the fixed-point sums (|r F| up to {:.3g} per pair, "
                                   "totals within 64 bits), so the pressure and energy would be wrong; {}",
                                   step_, id, other, limit, advice));
+  if (what == FixedPointOverflow::What::ScalarRate)
+    throw BlowUpError(step_, id,
+                      fmt::format("fixed-point overflow at step {}: the rate of a transported scalar (eDPD's dT/dt, "
+                                  "tDPD's dC/dt) from the pair of particle ids {} and {} is {:.4g}, beyond the {:.4g} per "
+                                  "pair that the fixed-point sums represent: the scalar has diverged (a time step too "
+                                  "large for kappa, or a random flux too strong) or its coefficients are far from "
+                                  "reduced units",
+                                  step_, id, other, value, limit));
   throw BlowUpError(step_, id,
                     fmt::format("fixed-point overflow at step {}: the {} of the pair of particle ids {} and {} is {:.4g}, "
                                 "beyond the {:.4g} per pair that the fixed-point sums represent (engine/fixed_point.hpp), "

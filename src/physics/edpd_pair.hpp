@@ -96,7 +96,10 @@ struct EdpdLaw {
   static constexpr bool kVelocity = true;
   static constexpr bool kNoise = true;
   static constexpr bool kDensity = false;
-  static constexpr bool kTemperature = true;  // reads T_i, T_j and zeta^e; returns dT_i/dt, dT_j/dt
+  // One scalar, the temperature: reads T_i, T_j and zeta^e; returns dT_i/dt, dT_j/dt.
+  static constexpr int kScalars = 1;
+  static constexpr std::array<std::string_view, 1> kScalarFields{"temp"};
+  static constexpr std::array<std::string_view, 1> kScalarRates{"temp_rate"};
 
   static constexpr std::string_view kStyle = "edpd";
   static constexpr std::string_view kDoc =
@@ -183,7 +186,7 @@ struct EdpdLaw {
     template <class Real>
     MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       const bool apart = in.r > Real(0);
-      const Real ti = in.ti, tj = in.tj;
+      const Real ti = in.si[0], tj = in.sj[0];
       const Real tbar = Real(0.5) * (ti + tj);
       const Real theta = tbar * p.inv_kt - Real(1);
       // Forces (seed 003 §3).
@@ -212,10 +215,10 @@ struct EdpdLaw {
       Real kap = p.kappa * edpd_poly(p.kappa_t, theta);
       kap = kap > Real(0) ? kap : Real(0);
       const Real kij = p.cv_i * p.cv_j * kap * tbar * tbar;
-      const Real q_anti = kij * wct * (Real(1) / ti - Real(1) / tj) + std::sqrt(Real(2) * kij) * wrt * in.xe * in.inv_sqrt_dt;
+      const Real q_anti = kij * wct * (Real(1) / ti - Real(1) / tj) + std::sqrt(Real(2) * kij) * wrt * in.xs[0] * in.inv_sqrt_dt;
       const Real work = wd * (p.gamma * in.rv * in.rv - sigma * sigma * p.ito) - out.fr * in.rv;
-      out.qi = (q_anti + p.visc_i * work) * p.inv_cv_i;
-      out.qj = (p.visc_j * work - q_anti) * p.inv_cv_j;
+      out.qi[0] = (q_anti + p.visc_i * work) * p.inv_cv_i;
+      out.qj[0] = (p.visc_j * work - q_anti) * p.inv_cv_j;
       return out;
     }
   };

@@ -39,7 +39,7 @@ struct PairValues {
   double kT = 1;
   double mass_i = 1, mass_j = 1;
   bool frozen_i = false, frozen_j = false;  // wall particles (never integrated: infinite mass)
-  static constexpr std::size_t kMaxSpeciesOwn = 4;
+  static constexpr std::size_t kMaxSpeciesOwn = 8;
   std::array<double, kMaxSpeciesOwn> species_i{}, species_j{};
 };
 

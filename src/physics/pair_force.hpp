@@ -5,8 +5,12 @@
 
 namespace mesodpd {
 
+// The most per-particle scalars a law may transport (kScalars): eDPD's temperature, tDPD's
+// concentrations.
+inline constexpr int kMaxScalars = 4;
+
 // The pair geometry and state a law may read, for the pair (i, j) with r_ij = r_i - r_j. The pair
-// loop fills only what the law asks for through its traits (kVelocity, kNoise, kDensity, kTemperature);
+// loop fills only what the law asks for through its traits (kVelocity, kNoise, kDensity, kScalars);
 // the other members are left zero.
 template <class Real>
 struct PairInput {
@@ -16,9 +20,12 @@ struct PairInput {
   Real inv_sqrt_dt = 0;  // 1 / sqrt(dt): the random force scales as dt^-1/2 (seed 000 Eq. 7)
   Real rho_i = 0;        // local densities of both particles from a density pass (kDensity)
   Real rho_j = 0;
-  Real ti = 0;           // internal temperatures of both particles (kTemperature; eDPD, physics/edpd_pair.hpp)
-  Real tj = 0;
-  Real xe = 0;           // antisymmetric unit-variance heat noise, xe_ij = -xe_ji (kTemperature)
+  // Laws with kScalars = n > 0: scalar s < n of both particles (the law's kScalarFields[s]: eDPD's
+  // temperature, physics/edpd_pair.hpp; tDPD's concentrations, physics/tdpd_pair.hpp) and an
+  // antisymmetric unit-variance noise for it, xs_ij = -xs_ji. Channels the run does not use are 0.
+  Real si[kMaxScalars] = {};
+  Real sj[kMaxScalars] = {};
+  Real xs[kMaxScalars] = {};
 };
 
 // The force on i due to j as magnitudes along r_hat_ij, kept in parts because the virial, the
@@ -29,19 +36,21 @@ struct PairForceT {
   Real fd = 0;      // dissipative
   Real fr = 0;      // random
   Real energy = 0;  // pair potential energy U_ij (0 where the law has no potential)
-  // Laws with kTemperature: the pair's contributions to dT_i/dt and dT_j/dt (not opposite: viscous
-  // heating warms both).
-  Real qi = 0;
-  Real qj = 0;
+  // Laws with kScalars: the pair's contributions to the rates d s_i/dt and d s_j/dt of each scalar (not
+  // opposite in general: viscous heating warms both particles).
+  Real qi[kMaxScalars] = {};
+  Real qj[kMaxScalars] = {};
 };
 
-// Whether a law carries per-particle temperatures (kTemperature; false where it does not say).
+// How many per-particle scalars a law transports (kScalars; 0 where it does not say). Such a law also
+// names the particle fields that hold them and their rates (kScalarFields, kScalarRates, in
+// core/particle_data.hpp); a run may enable fewer (a leading subset: tDPD with 2 solutes).
 template <class Law>
-inline constexpr bool law_has_temperature = [] {
-  if constexpr (requires { Law::kTemperature; })
-    return Law::kTemperature;
+inline constexpr int law_scalars = [] {
+  if constexpr (requires { Law::kScalars; })
+    return Law::kScalars;
   else
-    return false;
+    return 0;
 }();
 
 }  // namespace mesodpd

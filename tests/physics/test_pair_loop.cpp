@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdio>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -87,7 +88,7 @@ SimulationSpec three_species(PairStyle style, double s) {
       ps.own["attraction"] = 0.9 + 0.05 * k;
       ps.own["rc2"] = rc[k];
     }
-    if (pair_law(style).temperature) {
+    if (pair_law(style).style == "edpd") {
       // eDPD: conduction over its own cutoff (the pair's rc for one pair), a temperature-dependent
       // amplitude for some pairs; species with different heat capacities and masses.
       ps.own["kappa"] = 2e-3 * (k + 1);
@@ -99,7 +100,7 @@ SimulationSpec three_species(PairStyle style, double s) {
     }
     spec.pairs.push_back(ps);
   }
-  if (pair_law(style).temperature)
+  if (pair_law(style).style == "edpd")
     for (std::size_t k = 0; k < spec.species.size(); ++k) {
       spec.species[k].own["cv"] = 100.0 + 50.0 * static_cast<double>(k);
       spec.species[k].own["temperature"] = 0.0;
@@ -173,14 +174,26 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
     const std::optional<DensitySettings> density = make_density_settings(lc.spec);
     for (NoiseKind noise : {NoiseKind::Uniform, NoiseKind::Gaussian}) {
       ParticleData start = random_particles(box, 1100, 3, seed++);
-      const bool temperature = pair_law(lc.spec.pair_style).temperature;
-      if (temperature) {  // internal temperatures from 0.6 to 1.8
-        start.enable("temp");
-        start.enable("temp_rate");
-        std::mt19937_64 rng(seed);
-        std::uniform_real_distribution<double> t(0.6, 1.8);
-        for (std::size_t i = 0; i < start.n_local; ++i) start.temp[i] = t(rng);
+      // Laws with scalars: eDPD's temperature from 0.6 to 1.8; tDPD's first two concentrations (of four:
+      // the loop must skip the channels a run does not hold), from 0 to 3.
+      const PairLawInfo& info = pair_law(lc.spec.pair_style);
+      const int scalars = std::min(info.scalars, 2);
+      const bool temperature = scalars > 0;
+      std::mt19937_64 rng(seed);
+      for (int c = 0; c < scalars; ++c) {
+        start.enable(info.scalar_fields[static_cast<std::size_t>(c)]);
+        start.enable(info.scalar_rates[static_cast<std::size_t>(c)]);
+        std::uniform_real_distribution<double> t(info.style == "edpd" ? 0.6 : 0.0, info.style == "edpd" ? 1.8 : 3.0);
+        for (double& v : *start.doubles(info.scalar_fields[static_cast<std::size_t>(c)])) v = t(rng);
       }
+      auto rates = [&](ParticleData& q) {
+        std::vector<double> out;
+        for (int c = 0; c < scalars; ++c) {
+          const std::vector<double>& v = *q.doubles(info.scalar_rates[static_cast<std::size_t>(c)]);
+          out.insert(out.end(), v.begin(), v.begin() + static_cast<std::ptrdiff_t>(q.n_local));
+        }
+        return out;
+      };
       for (double skin : {0.0, 0.3}) {  // cell pairs, Verlet list
         for (std::int64_t target : simd_targets()) {
           hwy::SetSupportedTargetsForTest(target);
@@ -198,10 +211,10 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
             PairSums sums;
             fc.compute(p, box, list, 17, 0.04, false, sums, nullptr, density ? rho.data() : nullptr);
             const std::vector<double> fx_plain = p.fx, fy_plain = p.fy, fz_plain = p.fz;
-            const std::vector<double> rate_plain = p.temp_rate;
+            const std::vector<double> rate_plain = rates(p);
             fc.compute(p, box, list, 17, 0.04, true, sums, nullptr, density ? rho.data() : nullptr);
             EXPECT_TRUE(fx_plain == p.fx && fy_plain == p.fy && fz_plain == p.fz);
-            EXPECT_TRUE(rate_plain == p.temp_rate);
+            EXPECT_TRUE(rate_plain == rates(p));
             std::vector<std::array<double, 3>> f;
             PairSums ref;
             std::vector<double> rate;
@@ -219,9 +232,11 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
               total[0] += p.fx[i];
               total[1] += p.fy[i];
               total[2] += p.fz[i];
-              if (temperature) {
-                expect_close(p.temp_rate[i], rate[i], what + " dT/dt of id " + std::to_string(p.id[i]));
-                ASSERT_TRUE(std::isfinite(p.temp_rate[i])) << what;
+              for (int c = 0; c < scalars; ++c) {
+                const double got = (*p.doubles(info.scalar_rates[static_cast<std::size_t>(c)]))[i];
+                expect_close(got, rate[static_cast<std::size_t>(c) * p.n_local + i],
+                             what + " rate of scalar " + std::to_string(c) + " of id " + std::to_string(p.id[i]));
+                ASSERT_TRUE(std::isfinite(got)) << what;
               }
             }
             if (temperature) {  // the rates are not all zero: the test compares something
