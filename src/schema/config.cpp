@@ -288,6 +288,14 @@ void read_models(const Section& top, const std::vector<ModelSection>& models, Si
     if (!own_table)
       throw std::logic_error("model section [" + m.path + "]: a model's section must be a new [name], [analysis.name] "
                              "or [parent.name] under a table that only models use");
+    if (m.gather) {  // [[name]] blocks (a repeatable section is a top-level table)
+      if (dot != std::string::npos)
+        throw std::logic_error("model section [[" + m.path + "]]: a repeatable section must be a top-level [[name]]");
+      std::vector<std::any> items;
+      for (const Section& t : top.tables(m.path, names)) items.push_back(m.read(schema::SectionReader(t)));
+      if (!items.empty()) spec.models[m.path] = m.gather(std::move(items));
+      continue;
+    }
     if (dot == std::string::npos) {
       at = top.table(m.path, names);
     } else {

@@ -137,7 +137,7 @@ std::vector<DeclaredTable> declared_tables() {
   for (const Model& m : models())
     if (m.section) {
       ModelSection section = m.section();
-      DeclaredTable t{section.path, section.docs, false, section.minimal};
+      DeclaredTable t{section.path, section.docs, static_cast<bool>(section.gather), section.minimal};
       t.values = [section](const SimulationSpec& spec) {
         Values out;
         if (const auto it = spec.models.find(section.path); it != spec.models.end())
