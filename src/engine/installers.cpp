@@ -12,6 +12,13 @@
 namespace mesodpd {
 
 void install_edpd(Installation& in);             // pair.style = "edpd": internal temperatures
+void install_tdpd(Installation& in);             // pair.style = "tdpd": solute concentrations
+ModelSection tdpd_section();                     // [tdpd]
+void install_sources(Installation& in);          // [[source]], [[reaction]]: rates of temperatures, solutes
+ModelSection source_section();                   // [[source]]
+ModelSection reaction_section();                 // [[reaction]]
+void install_buoyancy(Installation& in);         // [buoyancy]: Boussinesq body force (Forces)
+ModelSection buoyancy_section();
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -44,6 +51,11 @@ std::vector<std::pair<Model, std::string>>& registered() {
 
 std::vector<Model> models() {
   std::vector<Model> list{{"edpd", install_edpd, {}},
+                          {"tdpd", install_tdpd, tdpd_section},
+                          {"sources", install_sources, source_section},
+                          // [[reaction]]'s keys; the sources' installer runs its stages too.
+                          {"reactions", +[](Installation&) {}, reaction_section},
+                          {"buoyancy", install_buoyancy, buoyancy_section},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},

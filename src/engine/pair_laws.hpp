@@ -15,6 +15,7 @@
 #include "physics/law_keys.hpp"
 #include "physics/dpd_pair.hpp"
 #include "physics/edpd_pair.hpp"
+#include "physics/tdpd_pair.hpp"
 #include "physics/mdpd_pair.hpp"
 #include "physics/pair_table.hpp"
 #include "physics/soft_pair.hpp"
@@ -70,7 +71,7 @@ struct LawTable {
 // no enumerator in PairStyle: the index is its style.
 using PairLawTables =
     std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>,
-                 LawTable<EdpdLaw> MESODPD_EXTRA_PAIR_LAWS>;
+                 LawTable<EdpdLaw>, LawTable<TdpdLaw> MESODPD_EXTRA_PAIR_LAWS>;
 inline constexpr std::size_t kPairLawCount = std::variant_size_v<PairLawTables>;
 
 // What one law of the list declares (physics/law_keys.hpp), without its type: for the schema.

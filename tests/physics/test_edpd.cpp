@@ -16,6 +16,7 @@
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"
 #include "mesodpd/config_error.hpp"
+#include "transport_configs.hpp"
 #include "test_support.hpp"
 
 using namespace mesodpd;
@@ -28,37 +29,9 @@ constexpr double kPi = 3.14159265358979323846;
 // A periodic eDPD fluid: rho = 3, a = 25, gamma = 4.5 in an l^3 box; `pair` and `species` add keys.
 std::string edpd_config(double l, double dt, double cv, double kappa, const std::string& extra_pair = "",
                         const std::string& extra_species = "", double temperature = 0.0) {
-  return fmt::format(R"(
-[system]
-box = [{0}, {0}, {0}]
-kT = 1.0
-seed = 4242
-
-[[species]]
-name = "A"
-density = 3.0
-cv = {2}
-temperature = {5}
-{4}
-
-[pair]
-style = "edpd"
-a = 25.0
-gamma = 4.5
-kappa = {3}
-{6}
-
-[integrator]
-dt = {1}
-
-[run]
-steps = 100
-
-[output]
-thermo_every = 10
-progress = false
-)",
-                     l, dt, cv, kappa, extra_species, temperature, extra_pair);
+  return test::periodic_fluid_config(fmt::format("style = \"edpd\"\nkappa = {}\n{}", kappa, extra_pair),
+                                     fmt::format("cv = {}\ntemperature = {}\n{}", cv, temperature, extra_species), "",
+                                     l, dt, 4242);
 }
 
 double internal_energy(const Simulation& sim, double cv) {
@@ -232,16 +205,8 @@ TEST(Edpd, ATemperatureWaveDecaysWithTheKineticTheoryDiffusivity) {
 // The same run on 1 and 2 threads and across a restart: bit-identical temperatures.
 TEST(Edpd, TemperaturesAreBitIdenticalAcrossThreadsAndRestarts) {
   const std::string text = edpd_config(6.0, 0.01, 50.0, 0.05);
-  auto run = [&](int threads, int steps) {
-    omp_set_num_threads(threads);
-    Simulation sim(parse_config(text, "r.toml"), RunOptions{});
-    for (int k = 0; k < steps; ++k) sim.step();
-    std::vector<double> t(sim.particles().n_local);
-    for (std::size_t i = 0; i < t.size(); ++i) t[sim.particles().id[i] - 1] = sim.particles().temp[i];
-    return t;
-  };
-  const std::vector<double> one = run(1, 60), two = run(2, 60);
-  omp_set_num_threads(1);
+  const std::vector<std::string> fields{"temp"};
+  const std::vector<double> one = test::run_fields(text, 1, 60, fields), two = test::run_fields(text, 2, 60, fields);
   EXPECT_TRUE(one == two);
   {
     // Sampling (thermo() recomputes the forces and rates at the end-of-step velocities) leaves the
@@ -251,40 +216,19 @@ TEST(Edpd, TemperaturesAreBitIdenticalAcrossThreadsAndRestarts) {
       sim.step();
       sim.thermo();
     }
-    std::vector<double> t(sim.particles().n_local);
-    for (std::size_t i = 0; i < t.size(); ++i) t[sim.particles().id[i] - 1] = sim.particles().temp[i];
-    EXPECT_TRUE(t == one);
+    EXPECT_TRUE(test::fields_by_id(sim.particles(), fields) == one);
   }
   const fs::path dir = fs::temp_directory_path() / "mesodpd_edpd_restart";
   fs::create_directories(dir);
   const fs::path file = dir / "state.mdpd";
-  {
-    Simulation sim(parse_config(text, "r.toml"), RunOptions{});
-    for (int k = 0; k < 30; ++k) sim.step();
-    sim.write_checkpoint(file);
-  }
-  RunOptions again;
-  again.restart = file;
-  Simulation sim(parse_config(text, "r.toml"), again);
-  for (int k = 0; k < 30; ++k) sim.step();
-  std::vector<double> t(sim.particles().n_local);
-  for (std::size_t i = 0; i < t.size(); ++i) t[sim.particles().id[i] - 1] = sim.particles().temp[i];
-  EXPECT_TRUE(t == one);
+  test::run_fields(text, 1, 30, fields, {}, file);
+  EXPECT_TRUE(test::run_fields(text, 1, 30, fields, file) == one);
   fs::remove_all(dir);
 }
 
 // Bad input: one error naming the key.
 TEST(Edpd, BadInputNamesTheKey) {
-  auto error_of = [](const std::string& text) -> std::string {
-    try {
-      Simulation sim(parse_config(text, "bad.toml"), RunOptions{});
-    } catch (const ConfigError& e) {
-      return e.what();
-    } catch (const std::exception& e) {
-      return std::string("other: ") + e.what();
-    }
-    return "no error";
-  };
+  const auto error_of = test::config_error_of;
   // cv is required with eDPD.
   std::string text = edpd_config(6.0, 0.01, 50.0, 0.05);
   text.replace(text.find("cv = 50"), 7, "");
@@ -360,82 +304,11 @@ TEST(Edpd, EachTableEntryHoldsItsOwnSpeciesOrder) {
 }
 
 namespace {
-// A channel along z between two plane walls of frozen particles (bottom z < 1, top z > 11), the fluid
-// between them; `bottom` and `top` are the walls' [[species]] extra lines (a temperature or nothing).
+// The channel of tests/physics/transport_configs.hpp with eDPD (C_v = 100, kappa = 0.3); `bottom` and `top`
+// are the walls' extra [[species]] lines (a temperature or nothing).
 std::string wall_config(const std::string& bottom, const std::string& top, double fluid_temperature) {
-  return fmt::format(R"(
-[system]
-box = [6.0, 6.0, 12.0]
-periodic = [true, true, false]
-kT = 1.0
-seed = 99
-
-[[species]]
-name = "fluid"
-density = 3.0
-cv = 100.0
-temperature = {2}
-
-[[species]]
-name = "bottom"
-frozen = true
-cv = 100.0
-{0}
-
-[[species]]
-name = "top"
-frozen = true
-cv = 100.0
-{1}
-
-[pair]
-style = "edpd"
-a = 25.0
-gamma = 4.5
-kappa = 0.3
-
-[[solid]]
-name = "b"
-species = "bottom"
-shape = "plane"
-point = [0, 0, 1]
-normal = [0, 0, 1]
-
-[[solid]]
-name = "t"
-species = "top"
-shape = "plane"
-point = [0, 0, 11]
-normal = [0, 0, -1]
-
-[walls]
-reflection = "bounce_back"
-
-[integrator]
-dt = 0.01
-
-[run]
-steps = 100000
-
-[output]
-thermo_every = 100
-progress = false
-)",
-                     bottom, top, fluid_temperature);
-}
-
-// Mean internal temperature of the fluid in `bins` slabs of z in [1, 11].
-std::vector<double> fluid_profile(const ParticleData& p, int bins) {
-  std::vector<double> sum(static_cast<std::size_t>(bins), 0.0), count(static_cast<std::size_t>(bins), 0.0);
-  for (std::size_t i = 0; i < p.n_local; ++i) {
-    if (p.species[i] != 0) continue;
-    const int b = static_cast<int>((p.z[i] - 1.0) / 10.0 * bins);
-    if (b < 0 || b >= bins) continue;
-    sum[static_cast<std::size_t>(b)] += p.temp[i];
-    count[static_cast<std::size_t>(b)] += 1;
-  }
-  for (int b = 0; b < bins; ++b) sum[static_cast<std::size_t>(b)] /= std::max(1.0, count[static_cast<std::size_t>(b)]);
-  return sum;
+  return test::plate_channel_config(fmt::format("cv = 100.0\ntemperature = {}", fluid_temperature),
+                                    "cv = 100.0\n" + bottom, "cv = 100.0\n" + top, "style = \"edpd\"\nkappa = 0.3");
 }
 }  // namespace
 
@@ -450,22 +323,12 @@ TEST(Edpd, ThermalWallsHoldALinearTemperatureProfile) {
   const int samples = 50;
   for (int s = 0; s < samples; ++s) {
     for (int k = 0; k < 20; ++k) sim.step();
-    const std::vector<double> prof = fluid_profile(sim.particles(), bins);
+    const std::vector<double> prof = test::fluid_slabs(sim.particles(), sim.particles().temp, bins);
     for (int b = 0; b < bins; ++b) mean[static_cast<std::size_t>(b)] += prof[static_cast<std::size_t>(b)] / samples;
   }
-  // Straight-line fit over the inner 8 bins (z from 2 to 10).
-  double sx = 0, sy = 0, sxx = 0, sxy = 0, m = 0;
-  for (int b = 1; b < bins - 1; ++b) {
-    const double z = 1.0 + (b + 0.5);
-    sx += z, sy += mean[static_cast<std::size_t>(b)], sxx += z * z, sxy += z * mean[static_cast<std::size_t>(b)], m += 1;
-  }
-  const double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx), icpt = (sy - slope * sx) / m;
-  double worst = 0;
-  for (int b = 1; b < bins - 1; ++b)
-    worst = std::max(worst, std::abs(mean[static_cast<std::size_t>(b)] - (icpt + slope * (1.0 + b + 0.5))));
-  std::printf("thermal walls: profile");
-  for (double t : mean) std::printf(" %.4f", t);
-  std::printf("\n  slope %.5f (walls' -0.4 / 10 = -0.04), largest deviation from the line %.4f\n", slope, worst);
+  // The walls' difference over their distance: -0.4 / 10 = -0.04.
+  const test::ProfileLine line = test::inner_line(mean, "thermal walls (walls' slope -0.04)");
+  const double slope = line.slope, worst = line.worst;
   EXPECT_LT(slope, -0.025);
   EXPECT_GT(slope, -0.045);
   EXPECT_LT(worst, 0.01);

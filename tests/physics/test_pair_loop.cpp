@@ -98,6 +98,15 @@ SimulationSpec three_species(PairStyle style, double s) {
       ps.own["kappa_t1"] = 0.1 * k;
       ps.own["kappa_t2"] = -0.05;
     }
+    if (pair_law(style).style == "tdpd") {
+      // tDPD: two solutes with their own kappa and random flux over a solute cutoff of their own.
+      ps.own["rcc"] = k == 3 ? 0.0 : 0.9 + 0.07 * k;
+      ps.own["kappa1"] = 0.5 + 0.2 * k;
+      ps.own["kappa2"] = 2.0 - 0.1 * k;
+      ps.own["epsilon1"] = 0.05 * k;
+      ps.own["epsilon2"] = 0.1;
+      for (const char* sc : {"sc1", "sc2", "sc3", "sc4"}) ps.own[sc] = 2.0;
+    }
     spec.pairs.push_back(ps);
   }
   if (pair_law(style).style == "edpd")
@@ -115,6 +124,16 @@ SimulationSpec edpd_with_s_of_t() {
   for (PairSpec& ps : spec.pairs) {
     ps.own["s_t1"] = 0.3;
     ps.own["s_t3"] = -0.1;
+  }
+  return spec;
+}
+
+// tDPD with solute exponents other than 2 (the general pow form).
+SimulationSpec tdpd_general() {
+  SimulationSpec spec = three_species(style_named("tdpd"), 2.0);
+  for (PairSpec& ps : spec.pairs) {
+    ps.own["sc1"] = 1.5;
+    ps.own["sc2"] = 1.0;
   }
   return spec;
 }
@@ -164,7 +183,9 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
                                       {"spline s=1/2", three_species(PairStyle::Spline, 0.5)},
                                       {"edpd", three_species(style_named("edpd"), 2.0)},
                                       {"edpd s=1/2", three_species(style_named("edpd"), 0.5)},
-                                      {"edpd s(T)", edpd_with_s_of_t()}};
+                                      {"edpd s(T)", edpd_with_s_of_t()},
+                                      {"tdpd", three_species(style_named("tdpd"), 2.0)},
+                                      {"tdpd general", tdpd_general()}};
   std::uint64_t seed = 11;
   int compared = 0;
   std::string names;
