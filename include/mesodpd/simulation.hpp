@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -135,6 +136,14 @@ class Simulation {
   std::array<double, 3> box() const;           // box lengths
   std::uint64_t total_particles() const;       // over all ranks
   Particles particles() const;                 // this rank's owned particles
+  // A model's per-particle scalar of this rank's owned particles, in the order of particles(): eDPD's
+  // internal temperature "temp", tDPD's concentrations "conc1" .. "conc4" and their rates "temp_rate",
+  // "conc_rate1", ... Throws std::invalid_argument naming the field when the run does not hold it.
+  std::span<const double> scalar_field(std::string_view name) const;
+  // Sets such a scalar ("temp", "conc<k>"; not a rate) of the owned particles from `values` (one per
+  // owned particle, in the order of particles()); the next step carries the new values to the ghost
+  // copies. Throws std::invalid_argument naming the field or the length that is wrong.
+  void set_scalar_field(std::string_view name, std::span<const double> values);
   Thermo thermo();                             // collective under MPI: every rank calls it
   // The full dynamic state; a run restarted from it (Options::restart) continues bit-identically.
   void write_checkpoint(const std::filesystem::path& file) const;

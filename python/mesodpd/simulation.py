@@ -24,6 +24,9 @@ class LocalParticles:
     reads that follow until the next step, so reading ``sim.particles.x[i]`` in a loop copies once.
     An array kept across a step stays valid and still holds the state of the step it was read at.
 
+    A model's scalars are attributes too: ``temp`` (eDPD), ``conc1`` .. ``conc4`` (tDPD) and their
+    rates ``temp_rate``, ``conc_rate1``, ...; ``set(name, values)`` writes the scalars (not the rates).
+
     ``view(name)`` gives a zero-copy view of the engine's memory instead; the simulation refuses to
     step (RuntimeError) while such a view is referenced, because a step may move or free that memory.
     ``position``, ``velocity``, ``force`` and ``image`` are (N, 3) copies. Storage order is not id
@@ -41,7 +44,21 @@ class LocalParticles:
     def __getattr__(self, name):
         if name in _FIELDS:
             return self._copy(name)
-        raise AttributeError(f"LocalParticles has no attribute {name!r}; fields: {', '.join(_FIELDS)}")
+        if not name.startswith("_"):
+            try:  # a model's scalar: eDPD's temp, tDPD's conc1 .. conc4 and their rates
+                return self._copy(name)
+            except KeyError:
+                pass
+        raise AttributeError(f"LocalParticles has no attribute {name!r}; fields: {', '.join(_FIELDS)} and the "
+                             "run's scalars (temp with pair.style = 'edpd', conc1 .. with 'tdpd')")
+
+    def set(self, name, values):
+        """Sets a model's scalar of the owned particles: ``temp`` (eDPD's internal temperature) or
+        ``conc1`` .. ``conc4`` (tDPD's concentrations), one value per owned particle in storage order
+        (the order of ``id``). ValueError for a field the run does not hold, a rate, or a wrong length.
+        """
+        self._sim._core.set_local(name, np.asarray(values, dtype=float))
+        self._cache = {}
 
     def _copy(self, name):
         version = self._sim._core.state_version()

@@ -281,9 +281,10 @@ struct PySimulation {
   }
 };
 
-// The named particle array of this rank's owned particles, passed to `f` as a span.
+// The named particle array of this rank's owned particles, passed to `f` as a span: a fixed field, or a
+// model's scalar (temp, conc1, ...; api::Simulation::scalar_field).
 template <class F>
-decltype(auto) with_field(const api::Particles& p, const std::string& name, F&& f) {
+decltype(auto) with_field(const api::Simulation& sim, const api::Particles& p, const std::string& name, F&& f) {
   if (name == "id") return f(p.id);
   if (name == "species") return f(p.species);
   const std::pair<const char*, std::span<const double>> reals[] = {
@@ -294,7 +295,11 @@ decltype(auto) with_field(const api::Particles& p, const std::string& name, F&& 
   const std::pair<const char*, std::span<const std::int32_t>> images[] = {{"ix", p.ix}, {"iy", p.iy}, {"iz", p.iz}};
   for (const auto& [n, v] : images)
     if (name == n) return f(v);
-  throw py::key_error("no particle array '" + name + "'");
+  try {
+    return f(sim.scalar_field(name));
+  } catch (const std::invalid_argument& e) {
+    throw py::key_error("no particle array '" + name + "' (" + e.what() + ")");
+  }
 }
 
 py::dict spec_summary(const SimulationSpec& s) {
@@ -430,7 +435,19 @@ PYBIND11_MODULE(_core, m) {
       .def("local_copy",
            [](const PySimulation& s, const std::string& name) -> py::array {
              s.refuse_while_stepping("particles");
-             return with_field(s.sim.particles(), name, [](auto span) { return frozen_copy(span); });
+             return with_field(s.sim, s.sim.particles(), name, [](auto span) { return frozen_copy(span); });
+           })
+      .def("set_local",
+           [](PySimulation& s, const std::string& name,
+              py::array_t<double, py::array::c_style | py::array::forcecast> values) {
+             s.refuse_while_stepping("particles.set");
+             if (values.ndim() != 1) throw py::value_error("particles.set('" + name + "'): a 1-D array of values");
+             try {
+               s.sim.set_scalar_field(name, std::span<const double>(values.data(), static_cast<std::size_t>(values.size())));
+             } catch (const std::invalid_argument& e) {
+               throw py::value_error(e.what());
+             }
+             ++s.version;  // copies made before are of the old values
            })
       .def("local_view",
            [](py::object self, const std::string& name) -> py::array {
@@ -438,7 +455,7 @@ PYBIND11_MODULE(_core, m) {
              s.refuse_while_stepping("particles.view");
              const api::Particles p = s.sim.particles();
              py::object token = py::cast(ViewToken{self, name, s.sim.current_step()});
-             py::array a = with_field(p, name, [&](auto span) { return view(span, token); });
+             py::array a = with_field(s.sim, p, name, [&](auto span) { return view(span, token); });
              s.views.emplace_back(token);
              return a;
            })

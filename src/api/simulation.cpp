@@ -2,6 +2,10 @@
 // its types into the public ones, so that engine headers stay private.
 #include <omp.h>
 
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
 #include "analysis/observers.hpp"
 #include "engine/simulation.hpp"
 #include "io/byte_buffer.hpp"
@@ -79,6 +83,36 @@ Particles Simulation::particles() const {
   return Particles{owned(p.id, n),  owned(p.species, n), owned(p.x, n),  owned(p.y, n),  owned(p.z, n),
                    owned(p.vx, n), owned(p.vy, n),      owned(p.vz, n), owned(p.fx, n), owned(p.fy, n),
                    owned(p.fz, n), owned(p.ix, n),      owned(p.iy, n), owned(p.iz, n)};
+}
+
+namespace {
+// The held optional double field `name` of the engine (a model's scalar or its rate), or an error.
+std::vector<double>& scalar_of(ParticleData& p, std::string_view name) {
+  const std::size_t k = ParticleData::field_index(name);
+  std::vector<double>* v = p.doubles(name);
+  if (k == ParticleData::kFieldCount || !(ParticleData::fields()[k].flags & field::kOptional) || v == nullptr)
+    throw std::invalid_argument("no particle scalar '" + std::string(name) +
+                                "' in this run (scalars: temp, temp_rate with pair.style = \"edpd\"; conc1 .. conc4, "
+                                "conc_rate1 .. with pair.style = \"tdpd\", as many as [tdpd] solutes)");
+  return *v;
+}
+}  // namespace
+
+std::span<const double> Simulation::scalar_field(std::string_view name) const {
+  ParticleData& p = impl_->engine.particles();
+  return owned(scalar_of(p, name), p.n_local);
+}
+
+void Simulation::set_scalar_field(std::string_view name, std::span<const double> values) {
+  ParticleData& p = impl_->engine.particles();
+  std::vector<double>& v = scalar_of(p, name);
+  if (ParticleData::fields()[ParticleData::field_index(name)].flags & field::kForce)
+    throw std::invalid_argument("particle scalar '" + std::string(name) + "' is a rate the force stage computes; set "
+                                "the scalar itself");
+  if (values.size() != p.n_local)
+    throw std::invalid_argument("set_scalar_field('" + std::string(name) + "'): " + std::to_string(values.size()) +
+                                " values for " + std::to_string(p.n_local) + " owned particles");
+  std::copy(values.begin(), values.end(), v.begin());
 }
 
 namespace {
