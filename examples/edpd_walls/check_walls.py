@@ -17,22 +17,8 @@ import tomllib
 
 import numpy as np
 
-
-def frames(path):
-    """Yields (step, columns dict) for every frame of a LAMMPS text dump."""
-    with open(path) as f:
-        lines = iter(f)
-        for line in lines:
-            if not line.startswith("ITEM: TIMESTEP"):
-                continue
-            step = int(next(lines))
-            next(lines)
-            n = int(next(lines))
-            for _ in range(4):
-                next(lines)
-            names = next(lines).split()[2:]
-            rows = np.array([next(lines).split() for _ in range(n)], dtype=float)
-            yield step, {name: rows[:, k] for k, name in enumerate(names)}
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from lammps_dump import frames  # noqa: E402
 
 
 def main():
