@@ -240,6 +240,7 @@ int main(int argc, char** argv) {
       fmt::print("{}", mesodpd::declared_values_summary(spec));
       // What a user should know before the run: Reynolds, Schmidt and Mach numbers, dt for the thermostat.
       fmt::print("{}", mesodpd::format_flow_numbers(mesodpd::flow_numbers(spec)));
+      fmt::print("{}", mesodpd::model_numbers_summary(spec));  // the models' own (eDPD, tDPD)
       for (const std::string& w : mesodpd::spec_warnings(spec)) fmt::print(stderr, "warning: {}\n", w);
       return 0;
     }

@@ -102,6 +102,9 @@ struct Model {
   std::string name;
   Installer install = nullptr;
   std::function<ModelSection()> section;  // empty: the model reads the shared spec only
+  // What `mesodpd check` prints for this model before a run (its estimates: diffusivities, Prandtl and
+  // Schmidt numbers), lines ending in '\n'; empty, or returning "", when it has nothing to say.
+  std::function<std::string(const SimulationSpec&)> numbers;
 };
 
 // The models, in order: those of engine/installers.cpp with any registered at run time among them.

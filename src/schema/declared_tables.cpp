@@ -155,6 +155,13 @@ std::string declared_tables_markdown() {
   return out;
 }
 
+std::string model_numbers_summary(const SimulationSpec& spec) {
+  std::string out;
+  for (const Model& m : models())
+    if (m.numbers) out += m.numbers(spec);
+  return out;
+}
+
 std::string declared_values_summary(const SimulationSpec& spec) {
   std::string out;
   for (const DeclaredTable& t : declared_tables()) {

@@ -32,5 +32,7 @@ std::string declared_tables_markdown();
 // box = [20, 20, 20] r_c, kT = 1.5"), in the order of declared_tables(); a table whose presence turns
 // its model on is listed even with default values. Empty when everything is at its default.
 std::string declared_values_summary(const SimulationSpec& spec);
+// The models' own estimates for `mesodpd check` (Model::numbers), in the list's order.
+std::string model_numbers_summary(const SimulationSpec& spec);
 
 }  // namespace mesodpd
