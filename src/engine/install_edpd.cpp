@@ -20,6 +20,7 @@
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
+#include "engine/transported_scalars.hpp"
 #include "mesodpd/config_error.hpp"
 #include "parallel/comm.hpp"
 
@@ -78,6 +79,21 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
 }
 
 }  // namespace
+
+std::string edpd_numbers(const SimulationSpec& spec) {
+  if (pair_law(spec.pair_style).style != EdpdLaw::kStyle || spec.species.empty()) return "";
+  double n = 0;
+  for (const SpeciesSpec& sp : spec.species)
+    if (!sp.frozen) n += static_cast<double>(sp.count);
+  n /= spec.box[0] * spec.box[1] * spec.box[2];
+  const PairSpec& p = spec.pair(0, 0);
+  const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
+  const double cv = spec.species.front().own.at("cv");
+  // Linearised, dT_i/dt = -C_v kappa sum_j w_CT (T_i - T_j): the exchange coefficient is C_v kappa.
+  return "eDPD (species " + spec.species.front().name + "):\n" +
+         scalar_numbers_line(spec, fmt::format("heat (C_v kappa = {}, r_cT = {})", cv * p.value("kappa"), rct),
+                             exchange_diffusivity(n, cv * p.value("kappa"), rct, p.value("st")), "Prandtl number");
+}
 
 void install_edpd(Installation& in) {
   const SimulationSpec& spec = in.spec;

@@ -26,6 +26,7 @@
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
+#include "engine/transported_scalars.hpp"
 #include "mesodpd/config_error.hpp"
 #include "mesodpd/key_table.hpp"
 #include "mesodpd/model_section.hpp"
@@ -150,6 +151,25 @@ void half_step(StepContext& ctx, TdpdState& s) {
 }  // namespace
 
 ModelSection tdpd_section() { return model_section(tdpd_keys(), check_tdpd); }
+
+std::string tdpd_numbers(const SimulationSpec& spec) {
+  if (pair_law(spec.pair_style).style != TdpdLaw::kStyle || spec.species.empty()) return "";
+  const TdpdSpec* t = spec.model<TdpdSpec>("tdpd");
+  const int solutes = t ? t->solutes : 1;
+  double n = 0;
+  for (const SpeciesSpec& sp : spec.species)
+    if (!sp.frozen) n += static_cast<double>(sp.count);
+  n /= spec.box[0] * spec.box[1] * spec.box[2];
+  const PairSpec& p = spec.pair(0, 0);
+  const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
+  std::string out = "tDPD (species " + spec.species.front().name + "):\n";
+  for (int k = 1; k <= solutes; ++k) {
+    const double kappa = p.value(fmt::format("kappa{}", k)), sc = p.value(fmt::format("sc{}", k));
+    out += scalar_numbers_line(spec, fmt::format("solute {} (kappa = {}, r_cc = {})", k, kappa, rcc),
+                               exchange_diffusivity(n, kappa, rcc, sc), "Schmidt number");
+  }
+  return out;
+}
 
 void install_tdpd(Installation& in) {
   const SimulationSpec& spec = in.spec;

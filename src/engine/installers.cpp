@@ -12,8 +12,10 @@
 namespace mesodpd {
 
 void install_edpd(Installation& in);             // pair.style = "edpd": internal temperatures
+std::string edpd_numbers(const SimulationSpec&); // its estimates for `mesodpd check`
 void install_tdpd(Installation& in);             // pair.style = "tdpd": solute concentrations
 ModelSection tdpd_section();                     // [tdpd]
+std::string tdpd_numbers(const SimulationSpec&);
 void install_sources(Installation& in);          // [[source]], [[reaction]]: rates of temperatures, solutes
 ModelSection source_section();                   // [[source]]
 ModelSection reaction_section();                 // [[reaction]]
@@ -50,8 +52,8 @@ std::vector<std::pair<Model, std::string>>& registered() {
 }  // namespace
 
 std::vector<Model> models() {
-  std::vector<Model> list{{"edpd", install_edpd, {}},
-                          {"tdpd", install_tdpd, tdpd_section},
+  std::vector<Model> list{{"edpd", install_edpd, {}, edpd_numbers},
+                          {"tdpd", install_tdpd, tdpd_section, tdpd_numbers},
                           {"sources", install_sources, source_section},
                           // [[reaction]]'s keys; the sources' installer runs its stages too.
                           {"reactions", +[](Installation&) {}, reaction_section},

@@ -17,6 +17,7 @@
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"
 #include "mesodpd/config_error.hpp"
+#include "schema/declared_tables.hpp"
 #include "transport_configs.hpp"
 #include "test_support.hpp"
 
@@ -417,4 +418,18 @@ lo = [6.0, 0.0, 0.0]
     EXPECT_GT(best_d - d_self, 0.3 * d_kin);
     EXPECT_LT(best_d - d_self, 1.05 * d_kin);
   }
+}
+
+// `mesodpd check` prints each solute's mean-field diffusivity (the value the static test reproduces).
+TEST(Tdpd, CheckPrintsEachSolutesKineticTheoryDiffusivity) {
+  const std::string text = tdpd_config(6.0, 0.01, 5.0, 15.0, "rcc = 1.5");
+  const std::string lines = model_numbers_summary(parse_config(text, "n.toml"));
+  std::printf("%s", lines.c_str());
+  const double n = 648.0 / 216.0;
+  EXPECT_NE(lines.find(fmt::format("solute 1 (kappa = 5, r_cc = 1.5): mean-field exchange diffusivity {:.4g}",
+                                   kinetic_d(n, 5.0, 1.5))),
+            std::string::npos);
+  EXPECT_NE(lines.find(fmt::format("solute 2 (kappa = 15, r_cc = 1.5): mean-field exchange diffusivity {:.4g}",
+                                   kinetic_d(n, 15.0, 1.5))),
+            std::string::npos);
 }
