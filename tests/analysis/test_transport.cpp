@@ -16,6 +16,18 @@
 namespace mesodpd {
 namespace {
 
+// One sample of velocities and positions held x y z interleaved per particle, as the test signals keep them.
+void sample_interleaved(TransportCorrelations& c, std::uint64_t step, const std::vector<double>& v,
+                        const std::vector<double>& r, double kT) {
+  const std::size_t n = v.size() / 3;
+  std::vector<double> vx(n), vy(n), vz(n), x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    vx[i] = v[3 * i], vy[i] = v[3 * i + 1], vz[i] = v[3 * i + 2];
+    x[i] = r[3 * i], y[i] = r[3 * i + 1], z[i] = r[3 * i + 2];
+  }
+  c.sample(step, vx.data(), vy.data(), vz.data(), x.data(), y.data(), z.data(), n, kT, static_cast<double>(n));
+}
+
 // n particles, each velocity component an Ornstein-Uhlenbeck process of variance kT (unit mass) and
 // relaxation time tau, positions integrated exactly over each interval h in the mean velocity (x advances
 // by h (v_k + v_k+1) / 2); and a stress tensor whose six components are independent OU processes of
@@ -47,16 +59,10 @@ struct Synthetic {
   }
   // Runs `steps` steps into c, sampling every `every`; the first sample at step `every`.
   void run(TransportCorrelations& c, std::uint64_t from, std::uint64_t to) {
-    std::vector<double> vx(n), vy(n), vz(n), x(n), y(n), z(n);
     for (std::uint64_t s = from + 1; s <= to; ++s) {
       step();
       c.add_pressure(p);
-      if (s % every != 0) continue;
-      for (std::size_t i = 0; i < n; ++i) {
-        vx[i] = v[3 * i], vy[i] = v[3 * i + 1], vz[i] = v[3 * i + 2];
-        x[i] = r[3 * i], y[i] = r[3 * i + 1], z[i] = r[3 * i + 2];
-      }
-      c.sample(s, vx.data(), vy.data(), vz.data(), x.data(), y.data(), z.data(), n, kT, static_cast<double>(n));
+      if (s % every == 0) sample_interleaved(c, s, v, r, kT);
     }
   }
 };
@@ -104,20 +110,19 @@ TEST(TransportCorrelations, OriginAveragesMatchDirectSums) {
     for (double& x : r[s]) x = 3 * g(rng);
     for (double& x : p[s]) x = g(rng);
   }
-  TransportCorrelations c(lags, 1, 0.5, 100, true);
-  for (std::size_t s = 0; s < samples; ++s) {
-    std::vector<double> vx(n), vy(n), vz(n), x(n), y(n), z(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      vx[i] = v[s][3 * i], vy[i] = v[s][3 * i + 1], vz[i] = v[s][3 * i + 2];
-      x[i] = r[s][3 * i], y[i] = r[s][3 * i + 1], z[i] = r[s][3 * i + 2];
+  const auto feed = [&](TransportCorrelations& c) {
+    for (std::size_t s = 0; s < samples; ++s) {
+      c.add_pressure(p[s]);
+      sample_interleaved(c, 10 + s, v[s], r[s], 2.0);
     }
-    c.add_pressure(p[s]);
-    c.sample(10 + s, vx.data(), vy.data(), vz.data(), x.data(), y.data(), z.data(), n, 1.0, 3.0);
-  }
-  // Not complete (100 steps per block): nothing to report yet.
-  EXPECT_EQ(c.complete_blocks(), 0u);
-  double vacf[lags + 1] = {}, shear[lags + 1] = {};
-  int count[lags + 1] = {};
+  };
+  TransportCorrelations longer(lags, 1, 0.5, 100, true);
+  feed(longer);
+  EXPECT_EQ(longer.complete_blocks(), 0u);  // 100 steps per block: nothing to report yet
+  // Direct sums: the VACF over every origin and over every second one (origin_every = 2), the stress
+  // over every origin.
+  double vacf[lags + 1] = {}, vacf2[lags + 1] = {}, shear[lags + 1] = {};
+  int count[lags + 1] = {}, count2[lags + 1] = {};
   for (std::size_t lag = 0; lag <= lags; ++lag)
     for (std::size_t o = 0; o + lag < samples; ++o) {
       double dot = 0;
@@ -125,28 +130,27 @@ TEST(TransportCorrelations, OriginAveragesMatchDirectSums) {
       vacf[lag] += dot / n;
       shear[lag] += (p[o][3] * p[o + lag][3] + p[o][4] * p[o + lag][4] + p[o][5] * p[o + lag][5]) / 3;
       ++count[lag];
+      if (o % 2 == 0) vacf2[lag] += dot / n, ++count2[lag];
     }
   // The same series in one block of exactly its length: complete, and its integrals are the direct sums'.
   TransportCorrelations one(lags, 1, 0.5, samples, true);
-  for (std::size_t s = 0; s < samples; ++s) {
-    std::vector<double> vx(n), vy(n), vz(n), x(n), y(n), z(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      vx[i] = v[s][3 * i], vy[i] = v[s][3 * i + 1], vz[i] = v[s][3 * i + 2];
-      x[i] = r[s][3 * i], y[i] = r[s][3 * i + 1], z[i] = r[s][3 * i + 2];
-    }
-    one.add_pressure(p[s]);
-    one.sample(10 + s, vx.data(), vy.data(), vz.data(), x.data(), y.data(), z.data(), n, 2.0, 3.0);
-  }
+  feed(one);
+  TransportCorrelations halves(lags, 1, 0.5, samples, true, 2);
+  feed(halves);
   ASSERT_EQ(one.complete_blocks(), 1u);
-  const TransportResult res = one.result(7.0);
-  double d = 0, eta = 0;
+  const TransportResult res = one.result(7.0), res2 = halves.result(7.0);
+  double d = 0, d2 = 0, eta = 0;
   for (std::size_t lag = 0; lag <= lags; ++lag) {
     const double w = (lag == 0 || lag == lags) ? 0.5 : 1.0;
     d += w * 0.5 * vacf[lag] / count[lag] / 3;
+    d2 += w * 0.5 * vacf2[lag] / count2[lag] / 3;
     eta += w * 0.5 * 7.0 / 2.0 * shear[lag] / count[lag];
   }
   EXPECT_NEAR(res.d_vacf.value, d, 1e-12);
+  EXPECT_NEAR(res2.d_vacf.value, d2, 1e-12);
+  EXPECT_GT(std::fabs(d2 - d), 1e-3);  // the origins matter on this short series
   EXPECT_NEAR(res.eta_shear.value, eta, 1e-12);
+  EXPECT_EQ(res2.eta_shear.value, res.eta_shear.value);  // the stress takes every origin
   EXPECT_TRUE(std::isnan(res.d_vacf.error));  // one block: no error bar
 }
 
