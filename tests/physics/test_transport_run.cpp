@@ -2,6 +2,7 @@
 // reverse-Poiseuille value of docs/validation.md section 4, D by Green-Kubo against D by Einstein, a
 // restart that continues the correlations bit for bit, and the refusals of bad input naming the key.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <filesystem>
@@ -86,8 +87,8 @@ TEST(TransportRun, GreenKuboViscosityAndTwoDiffusionRoutesAgree) {
   std::filesystem::remove_all(dir);
 }
 
-// Interrupted in the middle of a block and of a sampling interval, and restarted from the checkpoint: the
-// files are byte for byte those of the uninterrupted run.
+// Interrupted in the middle of a block and of a sampling interval, and restarted from the checkpoint (on
+// two threads): the files are byte for byte those of the uninterrupted run on one thread.
 TEST(TransportRun, RestartContinuesTheCorrelationsByteForByte) {
   const auto dir = std::filesystem::temp_directory_path() / "mesodpd_test_transport_restart";
   std::filesystem::remove_all(dir);
@@ -102,8 +103,10 @@ TEST(TransportRun, RestartContinuesTheCorrelationsByteForByte) {
     Simulation b(parse_config(cfg, "t.toml"), RunOptions{dir / "split", 333, {}, false, false});
     b.run();
   }
+  omp_set_num_threads(2);
   Simulation c(parse_config(cfg, "t.toml"), RunOptions{dir / "split", {}, dir / "split" / "checkpoint.mdpd", false, false});
   c.run();
+  omp_set_num_threads(1);
   for (const char* file : {"transport.csv", "transport.json"}) {
     const std::string whole = test::read_file(dir / "whole" / file);
     EXPECT_FALSE(whole.empty()) << file;
