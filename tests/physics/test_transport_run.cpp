@@ -42,8 +42,9 @@ const TransportResult& measure(Simulation& sim, TransportResult& out) {
 //   section 4, 8 x 8 x 20 box). The Green-Kubo value of the shear stresses must agree within 3 combined
 //   standard errors, its own error be below 5% (measured 0.868 +- 0.027), so that the test resolves a
 //   stress without its dissipative and random parts (eta_D = 0.16, seed 000 Eq. 16, 6 errors) or a
-//   wrong V / kT. The normal stresses measure the same eta (isotropy: factor 1/4, docs/physics.md):
-//   within 3 combined errors too (measured 0.863 +- 0.054); a factor 1/3 instead would be 5 errors off.
+//   wrong V / kT; a stress without its kinetic part gave 0.453 (tried: 40 errors off). The normal
+//   stresses measure the same eta (isotropy: factor 1/4, docs/physics.md): within 3 combined errors
+//   too (measured 0.863 +- 0.054); a factor 1/3 instead gave 1.150 (tried: 4 errors off).
 // - D: the MSD slope (Einstein) and the MSD that the VACF implies, fitted over the same lags, measure the
 //   same thing from the same samples: their per-block difference must be within 3.5 of its standard
 //   errors (measured 0.2; a wrong sample spacing, a factor in either formula or a VACF of wrongly
