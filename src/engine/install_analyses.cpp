@@ -17,6 +17,7 @@
 #include "analysis/system_snapshot.hpp"
 #include "analysis/thermo_output.hpp"
 #include "analysis/trajectory_output.hpp"
+#include "analysis/transport.hpp"
 #include "analysis/velocity_profile.hpp"
 #include "engine/installer.hpp"
 #include "engine/reference_pair_loop.hpp"
@@ -138,6 +139,16 @@ void install_msd(Installation& in) {
   if (!measuring(in) || !in.spec.msd.enabled) return;
   in.observers.add(add_analysis(
       in, std::make_unique<MsdStage>(in.spec, output(in), snapshot(in), in.sim.halo().comm()), section_name::kMsd));
+}
+
+void install_transport(Installation& in) {
+  const TransportSpec* t = in.spec.model<TransportSpec>("analysis.transport");
+  if (!measuring(in) || !t) return;
+  check_transport(*t, in.spec);  // again, for specs built in code
+  // Not in the observers' index (that would be a shared file for one analysis): the API and tests find
+  // the stage as a component.
+  in.components.share(add_analysis(
+      in, std::make_unique<TransportStage>(*t, in.spec, output(in), snapshot(in), in.sim.halo().comm()), "transport"));
 }
 
 void install_droplet(Installation& in) {

@@ -36,6 +36,8 @@ void install_snapshot(Installation& in);          // the whole system in id orde
 void install_trajectory(Installation& in);        // [output.dump] frames
 void install_rdf(Installation& in);               // [analysis.rdf]
 void install_msd(Installation& in);               // [analysis.msd]
+void install_transport(Installation& in);         // [analysis.transport]: D, eta and Sc by Green-Kubo
+ModelSection transport_section();                 // its keys (analysis/transport.hpp)
 void install_droplet(Installation& in);           // [analysis.droplet]
 void install_stress_profile(Installation& in);    // [analysis.stress_profile]
 void install_progress(Installation& in);          // the progress bar
@@ -70,6 +72,7 @@ std::vector<Model> models() {
                           {"trajectory", install_trajectory, {}},
                           {"rdf", install_rdf, {}},
                           {"msd", install_msd, {}},
+                          {"transport", install_transport, transport_section},
                           {"droplet", install_droplet, {}},
                           {"stress_profile", install_stress_profile, {}},
                           {"progress", install_progress, {}},
