@@ -145,9 +145,13 @@ static_assert(PairBatch::kCapacity % 16 == 0, "to_fixed_array rounds batch lengt
 #undef MESODPD_VECTOR_NOISE
 #if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
 #define MESODPD_VECTOR_NOISE 1
+// Word 0 of the draw goes to `w0` (antisymmetric, with the sign of id_a < id_b, if `w0_antisymmetric`),
+// word 2 to `w2` (antisymmetric; not computed where null): for pair_noise's xi (stream PairNoise, word 0)
+// and the uniform noises of pair_noise_with_scalars, the same bits.
 template <class Real>
 HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
-                                    Real* HWY_RESTRICT xi, std::size_t m, std::uint64_t seed, std::uint64_t step) {
+                                    Real* HWY_RESTRICT w0, bool w0_antisymmetric, Real* HWY_RESTRICT w2, std::size_t m,
+                                    std::uint64_t seed, std::uint64_t step, RngStream stream) {
   const hn::ScalableTag<std::uint64_t> d64;
   const hn::Rebind<std::uint32_t, decltype(d64)> d32;      // one id per 64-bit lane
   const hn::Repartition<std::uint32_t, decltype(d64)> dw;  // a 64-bit vector seen as 32-bit words
@@ -161,7 +165,7 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
     key1[r] = k1;
   }
   const auto word2 = hn::Set(d64, static_cast<std::uint32_t>(step));
-  const auto word3 = hn::Set(d64, pair_counter_word3(step, RngStream::PairNoise));
+  const auto word3 = hn::Set(d64, pair_counter_word3(step, stream));
   const auto low32 = hn::Set(d64, 0xFFFFFFFFull);
   const auto exp52 = hn::Set(d64, 0x4330000000000000ull);  // the bits of 2^52
   const auto two52 = hn::Set(dd, 4503599627370496.0);
@@ -179,14 +183,26 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
     }
     // u01_open(w) = (w + 0.5) / 2^32 with w converted exactly (2^52 + w, less 2^52); then
     // uniform_unit_variance: sqrt(3) (2 u - 1), in the scalar version's order.
-    const auto w = hn::Sub(hn::BitCast(dd, hn::Or(hn::And(c0, low32), exp52)), two52);
-    const auto u = hn::Mul(hn::Add(w, hn::Set(dd, 0.5)), hn::Set(dd, 1.0 / 4294967296.0));
-    const auto x = hn::Mul(hn::Set(dd, 1.7320508075688772), hn::Sub(hn::Mul(hn::Set(dd, 2.0), u), hn::Set(dd, 1.0)));
-    if constexpr (std::is_same_v<Real, double>) {
-      hn::StoreU(x, dd, xi + k);
-    } else {
-      const hn::Rebind<Real, decltype(dd)> dr;
-      hn::StoreU(hn::DemoteTo(dr, x), dr, xi + k);
+    const auto unit = [&](auto word) {
+      const auto w = hn::Sub(hn::BitCast(dd, hn::Or(hn::And(word, low32), exp52)), two52);
+      const auto u = hn::Mul(hn::Add(w, hn::Set(dd, 0.5)), hn::Set(dd, 1.0 / 4294967296.0));
+      return hn::Mul(hn::Set(dd, 1.7320508075688772), hn::Sub(hn::Mul(hn::Set(dd, 2.0), u), hn::Set(dd, 1.0)));
+    };
+    // The antisymmetric sign: + where id_a < id_b (pair_noise_with_scalars), as an exact negation.
+    const auto flip = hn::RebindMask(dd, hn::Lt(hn::PromoteTo(d64, b), hn::PromoteTo(d64, a)));
+    auto store = [&](auto x, Real* out) {
+      if constexpr (std::is_same_v<Real, double>) {
+        hn::StoreU(x, dd, out + k);
+      } else {
+        const hn::Rebind<Real, decltype(dd)> dr;
+        hn::StoreU(hn::DemoteTo(dr, x), dr, out + k);
+      }
+    };
+    const auto x0 = unit(c0);
+    store(w0_antisymmetric ? hn::IfThenElse(flip, hn::Neg(x0), x0) : x0, w0);
+    if (w2) {
+      const auto x2 = unit(c2);
+      store(hn::IfThenElse(flip, hn::Neg(x2), x2), w2);
     }
   }
 }
@@ -477,6 +493,14 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   // their antisymmetric noises (the first from the same draw).
   if constexpr (Pass::kScalars > 0) {
     const int ns = g.n_scalars;
+#if MESODPD_VECTOR_NOISE
+    if (kind == NoiseKind::Uniform) {  // the layout of pair_noise_with_scalars, a vector at a time
+      uniform_noise_array(b.iid, b.jid, b.xi, false, ns > 0 ? b.xs[0] : static_cast<PairReal*>(nullptr), m, seed, step, RngStream::PairNoise);
+      if (ns > 1)
+        uniform_noise_array(b.iid, b.jid, b.xs[1], true, ns > 2 ? b.xs[2] : static_cast<PairReal*>(nullptr), m, seed, step, RngStream::ScalarNoise);
+      if (ns > 3) uniform_noise_array(b.iid, b.jid, b.xs[3], true, static_cast<PairReal*>(nullptr), m, seed, step, RngStream::ScalarNoise2);
+    } else
+#endif
     for (std::size_t k = 0; k < m; ++k) {
       double xi, xs[kMaxScalars];
       pair_noise_with_scalars(seed, step, b.iid[k], b.jid[k], kind, xi, xs, ns);
@@ -486,7 +510,7 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   } else if constexpr (Pass::kNoise) {
     if (kind == NoiseKind::Uniform) {
 #if MESODPD_VECTOR_NOISE
-      uniform_noise_array(b.iid, b.jid, b.xi, m, seed, step);
+      uniform_noise_array(b.iid, b.jid, b.xi, false, static_cast<PairReal*>(nullptr), m, seed, step, RngStream::PairNoise);
 #else
       for (std::size_t k = 0; k < m; ++k)
         b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Uniform));
