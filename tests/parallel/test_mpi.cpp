@@ -271,6 +271,27 @@ TEST(Mpi, BondsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
     for (int k = 10; k < 13; ++k) EXPECT_LT(std::abs(row[static_cast<std::size_t>(k)]), 1e-9) << "step " << row[0];
 }
 
+// Runs the config `name` (in `dir`) on 1 rank, then on 2 and 4 ranks and 2 ranks x 2 threads, and once
+// more on 2 ranks to step `half` continued on 4 ranks from that checkpoint: `files` of every run must be
+// byte-identical to the 1-rank run's ("r1/...").
+void expect_identical_on_ranks_and_restart(const fs::path& dir, const std::string& name,
+                                           const std::vector<const char*>& files, int half) {
+  ASSERT_EQ(mpirun(dir, 1, "run " + name + " --out r1").code, 0);
+  for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {4, 1}, {2, 2}}) {
+    const std::string out = fmt::format("r{}x{}", ranks, threads);
+    const Result r = mpirun(dir, ranks, "run " + name + " --out " + out, threads);
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    for (const char* file : files)
+      EXPECT_EQ(read_all(dir / out / file), read_all(dir / "r1" / file)) << file << " differs on " << out;
+  }
+  ASSERT_EQ(mpirun(dir, 2, fmt::format("run {} --out half --steps {}", name, half)).code, 0);
+  fs::copy_file(dir / "half" / "checkpoint.mdpd", dir / "half.mdpd");
+  const Result r = mpirun(dir, 4, "run " + name + " --out half --restart half.mdpd");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  for (const char* file : files)
+    EXPECT_EQ(read_all(dir / "half" / file), read_all(dir / "r1" / file)) << file << " differs after a restart";
+}
+
 // Many-body DPD (a density pass whose ghost contributions go back to their owners and whose totals go
 // forward to the ghosts, then the force pass): Warren's liquid with two species (different A_ij) and
 // Lucy's kernel gives byte-identical checkpoints, thermo rows and trajectories on 1, 2 and 4 ranks and
@@ -290,21 +311,8 @@ TEST(Mpi, ManyBodyRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
       "[output.dump]\nevery = 100\nfields = [\"id\", \"species\", \"position\", \"velocity\", \"force\"]\n\n"
       "[analysis.droplet]\nstart = 100\nevery = 50\ninner_radius = 1.5\nouter_radius = 3.5\nblocks = 2\n";
   write(dir / "m.toml", cfg);
-  const char* files[] = {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "droplet.json", "droplet_profile.csv"};
-  ASSERT_EQ(mpirun(dir, 1, "run m.toml --out r1").code, 0);
-  for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {4, 1}, {2, 2}}) {
-    const std::string out = fmt::format("r{}x{}", ranks, threads);
-    const Result r = mpirun(dir, ranks, "run m.toml --out " + out, threads);
-    ASSERT_EQ(r.code, 0) << r.out << r.err;
-    for (const char* file : files)
-      EXPECT_EQ(read_all(dir / out / file), read_all(dir / "r1" / file)) << file << " differs on " << out;
-  }
-  ASSERT_EQ(mpirun(dir, 2, "run m.toml --out half --steps 200").code, 0);
-  fs::copy_file(dir / "half" / "checkpoint.mdpd", dir / "half200.mdpd");
-  const Result r = mpirun(dir, 4, "run m.toml --out half --restart half200.mdpd");
-  ASSERT_EQ(r.code, 0) << r.out << r.err;
-  for (const char* file : files)
-    EXPECT_EQ(read_all(dir / "half" / file), read_all(dir / "r1" / file)) << file << " differs after a restart";
+  expect_identical_on_ranks_and_restart(
+      dir, "m.toml", {"checkpoint.mdpd", "thermo.csv", "trajectory.lammpstrj", "droplet.json", "droplet_profile.csv"}, 200);
   // The liquid is there: attraction wins over the kinetic pressure at this density.
   EXPECT_LT(thermo_rows(dir / "r1" / "thermo.csv").back()[13], 0.0);  // potential energy
 }
@@ -325,26 +333,40 @@ TEST(Mpi, EdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
       "[integrator]\ndt = 0.01\n\n[run]\nsteps = 300\n\n"
       "[output]\nthermo_every = 50\nprogress = false\n";
   write(dir / "e.toml", cfg);
-  const char* files[] = {"checkpoint.mdpd", "thermo.csv"};
-  ASSERT_EQ(mpirun(dir, 1, "run e.toml --out r1").code, 0);
-  for (const auto& [ranks, threads] : std::vector<std::pair<int, int>>{{2, 1}, {4, 1}, {2, 2}}) {
-    const std::string out = fmt::format("r{}x{}", ranks, threads);
-    const Result r = mpirun(dir, ranks, "run e.toml --out " + out, threads);
-    ASSERT_EQ(r.code, 0) << r.out << r.err;
-    for (const char* file : files)
-      EXPECT_EQ(read_all(dir / out / file), read_all(dir / "r1" / file)) << file << " differs on " << out;
-  }
-  ASSERT_EQ(mpirun(dir, 2, "run e.toml --out half --steps 150").code, 0);
-  fs::copy_file(dir / "half" / "checkpoint.mdpd", dir / "half150.mdpd");
-  const Result r = mpirun(dir, 4, "run e.toml --out half --restart half150.mdpd");
-  ASSERT_EQ(r.code, 0) << r.out << r.err;
-  for (const char* file : files)
-    EXPECT_EQ(read_all(dir / "half" / file), read_all(dir / "r1" / file)) << file << " differs after a restart";
+  expect_identical_on_ranks_and_restart(dir, "e.toml", {"checkpoint.mdpd", "thermo.csv"}, 150);
   // Heat flowed: the hot ball's excess spread, so the mean internal temperature moved from its start
   // while the thermo file carries it (its last two columns: temp_internal, energy_internal).
   const std::vector<std::vector<double>> rows = thermo_rows(dir / "r1" / "thermo.csv");
   ASSERT_GE(rows.size(), 2u);
   EXPECT_GT(rows.back()[rows.back().size() - 2], 1.0);
+}
+
+// tDPD (pair.style = "tdpd") with 3 of its 4 solute channels (the partial path: 7 integers per particle
+// go back from the ghosts, 3 forces and 4 channels of which the fourth stays 0), a random flux on solute 1 (not on solute 3, which is 0 outside the ball: the
+// random flux would drive it negative at once, which stops the run), a ball rich in solute 1 across the periodic face x = 0, a
+// [[source]] and a [[reaction]] in boxes that the ranks split: checkpoints and thermo rows (with the
+// amounts solute1..3) byte-identical on 1, 2 and 4 ranks, 2 x 2 threads and across a restart.
+TEST(Mpi, TdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
+  const fs::path dir = fresh_dir();
+  const std::string cfg =
+      "[system]\nbox = [8.0, 8.0, 8.0]\nkT = 1.0\nseed = 505\n\n"
+      "[[species]]\nname = \"A\"\ndensity = 3.0\nconc1 = 1.0\nconc2 = 2.0\n\n"
+      "[[species]]\nname = \"R\"\ndensity = 3.0\nconc1 = 5.0\nconc3 = 1.0\n"
+      "region = {shape = \"sphere\", center = [1.0, 4.0, 4.0], radius = 2.5}\n\n"
+      "[pair]\nstyle = \"tdpd\"\na = 25.0\ngamma = 4.5\nrcc = 1.2\nkappa1 = 2.0\nkappa2 = 1.0\nkappa3 = 4.0\n"
+      "epsilon1 = 0.02\n\n[tdpd]\nsolutes = 3\n\n"
+      "[[source]]\nfield = \"conc2\"\nrate = 0.3\nlo = [2.0, 0.0, 0.0]\nhi = [6.0, 8.0, 4.0]\n\n"
+      "[[reaction]]\nsolute = 1\nproduct = 3\nrate = 0.5\nlo = [0.0, 3.0, 0.0]\nhi = [8.0, 8.0, 8.0]\n\n"
+      "[integrator]\ndt = 0.01\n\n[run]\nsteps = 300\n\n"
+      "[output]\nthermo_every = 50\nprogress = false\n";
+  write(dir / "t.toml", cfg);
+  expect_identical_on_ranks_and_restart(dir, "t.toml", {"checkpoint.mdpd", "thermo.csv"}, 150);
+  // Solute moved: the reaction turned some of solute 1 into solute 3 (the last three columns are the
+  // amounts of solutes 1-3).
+  const std::vector<std::vector<double>> rows = thermo_rows(dir / "r1" / "thermo.csv");
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_LT(rows.back()[rows.back().size() - 3], rows.front()[rows.front().size() - 3]);
+  EXPECT_GT(rows.back()[rows.back().size() - 1], rows.front()[rows.front().size() - 1]);
 }
 
 // Verlet lists (ghost refresh between rebuilds), two species, a body force, reverse Poiseuille flow, RDF,
