@@ -342,10 +342,11 @@ TEST(Mpi, EdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
 }
 
 // tDPD (pair.style = "tdpd") with 3 of its 4 solute channels (the partial path: 7 integers per particle
-// go back from the ghosts, 3 forces and 4 channels of which the fourth stays 0), a random flux on solute 1 (not on solute 3, which is 0 outside the ball: the
-// random flux would drive it negative at once, which stops the run), a ball rich in solute 1 across the periodic face x = 0, a
-// [[source]] and a [[reaction]] in boxes that the ranks split: checkpoints and thermo rows (with the
-// amounts solute1..3) byte-identical on 1, 2 and 4 ranks, 2 x 2 threads and across a restart.
+// go back from the ghosts, 3 forces and 4 channels of which the fourth stays 0), a random flux on
+// solute 1 (not on solute 3, which is 0 outside the ball: a random flux would drive it negative at once,
+// which stops the run), a ball rich in solute 1 across the periodic face x = 0, a [[source]] and a
+// [[reaction]] in boxes that the ranks split: checkpoints and thermo rows (with the amounts
+// solute1..3) byte-identical on 1, 2 and 4 ranks, 2 x 2 threads and across a restart.
 TEST(Mpi, TdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
   const fs::path dir = fresh_dir();
   const std::string cfg =
