@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Mean Nusselt number of the heated cavity (examples/convection/README.md).
 
-usage: check_cavity.py CONFIG OUT_DIR [CONFIG OUT_DIR ...] [--D 0.3985] [--nu 0.276] [--png FILE]
+usage: check_cavity.py CONFIG OUT_DIR [CONFIG OUT_DIR ...] [--D 0.396] [--nu 0.276] [--png FILE]
 
 Reads the run's binned fields OUT_DIR/cavity.csv ([analysis.fields] "cavity": fluid density, mass-
 weighted velocity and mean internal temperature on a grid in x and z, averaged over y and time) and,
@@ -14,15 +14,21 @@ when present, the snapshots OUT_DIR/snap_<step>.csv/.json of the same file writt
 - Nu = 1 + L <(rho/rho_0) u_x (T - <T>_col)> / (D dT_f), the cavity average of the convective flux
   of the binned mean flow over the conduction flux D dT_f / L of pure conduction with the same fluid
   temperature difference (the conduction part of the cavity-averaged flux is exactly D dT_f / L with
-  these end points). The binned product u_x T misses the correlation of the particles' velocity and
+  these end points). Also: Nu_core, the heat flux through the columns of bins in the central half of
+  the cavity (convective part plus -D dT/dx of the z-averaged profile there), over D dT_f / L: it uses
+  D only where the fluid is bulk (next to a wall the fluid is layered and its D differs); in pure
+  conduction (cavity_conduction.toml) it is the bulk slope over dT_f / L. The binned product u_x T misses the correlation of the particles' velocity and
   temperature fluctuations inside a bin: that is the heat the particles carry by self-diffusion, which
   is part of the measured D (calibrate.toml), so it is counted once, in the conduction term.
-- Ra = g beta dT_f L^3 / (nu D), Pr = nu / D; Mach = max |u| / c with c = 4.0 (docs/validation.md 2).
+- Ra = g beta dT_f L^3 / (nu D), Pr = nu / D; Mach = max |u| / c with the isothermal sound speed c = 4.0 (c^2 = kT + 2 alpha a rho,
+  seed 000 Eqs 13, 15; as in docs/validation.md section 6). max |u| is that of the binned mean
+  velocity, which still carries the bins' thermal noise (about 0.03), so it is an upper bound.
 - The reference: de Vahl Davis (1983), Pr = 0.71: Nu = 1.118 at Ra = 10^3, 2.243 at 10^4, 4.519 at
   10^5; between them Nu is interpolated as a power law in Ra (log-log).
 Writes OUT_DIR/cavity_check.json for every run and, with --png, one picture with a panel per run: the
 fluid temperature with 9 isotherms (tenths of dT_f) and streamlines of the binned mean velocity
-(smoothed over 3 x 3 bins for the picture only).
+(smoothed over 3 x 3 bins). Also printed: the peak u_x on the vertical mid-line and the peak u_z on
+the horizontal one (velocity smoothed over 3 x 3 bins), in units of D / L, against de Vahl Davis's.
 """
 import csv
 import glob
@@ -34,6 +40,8 @@ import tomllib
 import numpy as np
 
 DE_VAHL_DAVIS = [(1e3, 1.118), (1e4, 2.243), (1e5, 4.519)]  # Ra, mean Nu (Pr = 0.71)
+# de Vahl Davis's peak velocities in units of D / L: u_x on the vertical mid-line, u_z on the horizontal one
+DE_VAHL_DAVIS_SPEEDS = {1e3: (3.649, 3.697), 1e4: (16.178, 19.617), 1e5: (34.73, 68.59)}
 SOUND_SPEED = 4.0
 
 
@@ -88,9 +96,18 @@ def analyse(g, x0, x1, z0, z1, d, rho0):
     dt = t_hot - t_cold
     length = x1 - x0
     conv = (rho / rho0) * ux * (t - t.mean(axis=1, keepdims=True))
-    nu_cols = 1 + length * conv.mean(axis=1) / (d * dt)  # Nu through each vertical plane (convective part)
-    return {"t_hot_fluid": t_hot, "t_cold_fluid": t_cold, "dT_fluid": dt,
-            "Nu": float(nu_cols.mean()), "Nu_columns": nu_cols,
+    # Nu through each vertical column of bins, with the column's own conduction -D dT/dx (of the
+    # z-averaged profile): constant in a steady state; its ends are the walls' Nusselt numbers.
+    nu_cols = (conv.mean(axis=1) / d - np.gradient(prof, xs)) * length / dt
+    mid_x = np.argsort(np.abs(xs - 0.5 * (x0 + x1)))[:2]  # the two columns nearest the vertical mid-line
+    zs = z[cz]
+    mid_z = np.argsort(np.abs(zs - 0.5 * (z0 + z1)))[:2]
+    # peaks of the velocity smoothed over 3 x 3 bins (the bins' noise would bias a raw maximum upwards)
+    u_mid = float(np.max(smooth(ux)[mid_x, :].mean(axis=0))) * length / d
+    w_mid = float(np.max(smooth(uz)[:, mid_z].mean(axis=1))) * length / d
+    core = np.abs(xs - 0.5 * (x0 + x1)) < 0.25 * length  # the columns of the central half, away from the walls
+    return {"Nu_core": float(nu_cols[core].mean()), "u_mid_max": u_mid, "w_mid_max": w_mid, "t_hot_fluid": t_hot, "t_cold_fluid": t_cold, "dT_fluid": dt,
+            "Nu": float(1 + length * conv.mean() / (d * dt)), "Nu_columns": nu_cols,
             "u_max": float(np.nanmax(np.hypot(ux, uz))), "x": xs, "z": z[cz], "T": t, "ux": ux, "uz": uz}
 
 
@@ -104,7 +121,7 @@ def main():
             del args[k:k + 2]
     if len(args) < 2 or len(args) % 2:
         sys.exit(__doc__)
-    d = float(options.get("--D", 0.3985))
+    d = float(options.get("--D", 0.396))
     nu = float(options.get("--nu", 0.276))
     panels = [check_run(config, out, d, nu) for config, out in zip(args[0::2], args[1::2])]
     if "--png" in options:
@@ -132,27 +149,38 @@ def check_run(config, out, d, nu):
     blocks = []
     for (s1, n1, p1), (s2, n2, p2) in zip(snaps, snaps[1:]):
         r = analyse(block(read_grid(p2), read_grid(p1), n2, n1), x0, x1, z0, z1, d, rho0)
-        blocks.append({"steps": [s1, s2], "Nu": r["Nu"], "dT_fluid": r["dT_fluid"]})
+        blocks.append({"steps": [s1, s2], "Nu": r["Nu"], "Nu_core": r["Nu_core"], "dT_fluid": r["dT_fluid"]})
     if snaps:  # the first block: from the start of sampling to the first snapshot
         r = analyse(read_grid(snaps[0][2]), x0, x1, z0, z1, d, rho0)
-        blocks.insert(0, {"steps": [None, snaps[0][0]], "Nu": r["Nu"], "dT_fluid": r["dT_fluid"]})
+        blocks.insert(0, {"steps": [None, snaps[0][0]], "Nu": r["Nu"], "Nu_core": r["Nu_core"], "dT_fluid": r["dT_fluid"]})
     nus = np.array([bl["Nu"] for bl in blocks])
     nu_err = float(nus.std(ddof=1) / np.sqrt(len(nus))) if len(nus) > 1 else None
+    cores = np.array([bl["Nu_core"] for bl in blocks])
+    core_err = float(cores.std(ddof=1) / np.sqrt(len(cores))) if len(cores) > 1 else None
 
     ra = g_beta * whole["dT_fluid"] * length ** 3 / (nu * d)
     ref = reference_nu(ra)
     result = {"L": length, "D": d, "nu": nu, "Pr": nu / d, "g_beta": g_beta,
               "T_hot_fluid": whole["t_hot_fluid"], "T_cold_fluid": whole["t_cold_fluid"],
               "dT_fluid": whole["dT_fluid"], "Ra": ra, "Nu": whole["Nu"], "Nu_block_error": nu_err,
+              "Nu_core": whole["Nu_core"], "Nu_core_block_error": core_err,
               "Nu_blocks": blocks, "Nu_columns_min_max": [float(whole["Nu_columns"].min()), float(whole["Nu_columns"].max())],
-              "Nu_de_Vahl_Davis_at_Ra": ref, "u_max": whole["u_max"], "Mach": whole["u_max"] / SOUND_SPEED}
+              "Nu_columns": [float(v) for v in whole["Nu_columns"]],
+              "Nu_mid_plane": float(np.mean(whole["Nu_columns"][np.argsort(np.abs(whole["x"] - 0.5 * (x0 + x1)))[:2]])),
+              "Nu_de_Vahl_Davis_at_Ra": ref, "u_max": whole["u_max"], "Mach": whole["u_max"] / SOUND_SPEED,
+              "u_mid_max_L_over_D": whole["u_mid_max"], "w_mid_max_L_over_D": whole["w_mid_max"]}
     with open(os.path.join(out, "cavity_check.json"), "w") as f:
         json.dump(result, f, indent=1)
     print("fluid at the walls %.4f, %.4f: dT_f = %.4f (walls 1.1 - 0.9)" % (whole["t_hot_fluid"], whole["t_cold_fluid"], whole["dT_fluid"]))
     print("Pr = %.3f, Ra = %.0f, max |u| = %.3f, Mach = %.3f" % (nu / d, ra, whole["u_max"], result["Mach"]))
-    print("Nu = %.3f%s (columns %.3f..%.3f); blocks: %s" % (
-        whole["Nu"], "" if nu_err is None else " +- %.3f" % nu_err, *result["Nu_columns_min_max"],
+    print("Nu = %.3f%s (through the columns of bins %.3f..%.3f, mid-plane %.3f); blocks: %s" % (
+        whole["Nu"], "" if nu_err is None else " +- %.3f" % nu_err, *result["Nu_columns_min_max"], result["Nu_mid_plane"],
         ", ".join("%.3f" % v for v in nus)))
+    print("Nu through the central half of the columns (bulk D): %.3f%s" % (
+        whole["Nu_core"], "" if core_err is None else " +- %.3f" % core_err))
+    print("peak u_x on the vertical mid-line %.2f D/L, peak u_z on the horizontal one %.2f D/L%s" % (
+        whole["u_mid_max"], whole["w_mid_max"], "".join(
+            "; de Vahl Davis at Ra = %.0e: %.2f, %.2f" % (k, *v) for k, v in DE_VAHL_DAVIS_SPEEDS.items() if 0.5 < ra / k < 2)))
     if ref is not None:
         print("de Vahl Davis at this Ra: Nu = %.3f (%+.1f %%)" % (ref, 100 * (whole["Nu"] / ref - 1)))
     return whole, (x0, x1, z0, z1), ra
