@@ -171,7 +171,9 @@ def check_run(config, out, d, nu):
               "u_mid_max_L_over_D": whole["u_mid_max"], "w_mid_max_L_over_D": whole["w_mid_max"]}
     with open(os.path.join(out, "cavity_check.json"), "w") as f:
         json.dump(result, f, indent=1)
-    print("fluid at the walls %.4f, %.4f: dT_f = %.4f (walls 1.1 - 0.9)" % (whole["t_hot_fluid"], whole["t_cold_fluid"], whole["dT_fluid"]))
+    walls = {sp["name"]: sp.get("temperature") for sp in cfg["species"]}
+    print("fluid at the walls %.4f, %.4f: dT_f = %.4f (walls %g - %g)" % (
+        whole["t_hot_fluid"], whole["t_cold_fluid"], whole["dT_fluid"], walls["hot"], walls["cold"]))
     print("Pr = %.3f, Ra = %.0f, max |u| = %.3f, Mach = %.3f" % (nu / d, ra, whole["u_max"], result["Mach"]))
     print("Nu = %.3f%s (through the columns of bins %.3f..%.3f, mid-plane %.3f); blocks: %s" % (
         whole["Nu"], "" if nu_err is None else " +- %.3f" % nu_err, *result["Nu_columns_min_max"], result["Nu_mid_plane"],
