@@ -106,8 +106,9 @@ def analyse(g, x0, x1, z0, z1, d, rho0):
     u_mid = float(np.max(smooth(ux)[mid_x, :].mean(axis=0))) * length / d
     w_mid = float(np.max(smooth(uz)[:, mid_z].mean(axis=1))) * length / d
     core = np.abs(xs - 0.5 * (x0 + x1)) < 0.25 * length  # the columns of the central half, away from the walls
-    return {"Nu_core": float(nu_cols[core].mean()), "u_mid_max": u_mid, "w_mid_max": w_mid, "t_hot_fluid": t_hot, "t_cold_fluid": t_cold, "dT_fluid": dt,
-            "Nu": float(1 + length * conv.mean() / (d * dt)), "Nu_columns": nu_cols,
+    return {"Nu": float(1 + length * conv.mean() / (d * dt)), "Nu_columns": nu_cols,
+            "Nu_core": float(nu_cols[core].mean()), "u_mid_max": u_mid, "w_mid_max": w_mid,
+            "t_hot_fluid": t_hot, "t_cold_fluid": t_cold, "dT_fluid": dt,
             "u_max": float(np.nanmax(np.hypot(ux, uz))), "x": xs, "z": z[cz], "T": t, "ux": ux, "uz": uz}
 
 
