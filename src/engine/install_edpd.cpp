@@ -82,10 +82,7 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
 
 std::string edpd_numbers(const SimulationSpec& spec) {
   if (pair_law(spec.pair_style).style != EdpdLaw::kStyle || spec.species.empty()) return "";
-  double n = 0;
-  for (const SpeciesSpec& sp : spec.species)
-    if (!sp.frozen) n += static_cast<double>(sp.count);
-  n /= spec.box[0] * spec.box[1] * spec.box[2];
+  const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
   const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
   const double cv = spec.species.front().own.at("cv");

@@ -144,7 +144,6 @@ void check_reactions(const std::vector<ReactionSpec>& list, const SimulationSpec
 // keep their place in the list, not their storage).
 struct Source {
   std::string field;
-  double rate;
   Region region;
   std::vector<double> per_species;  // dX/dt per species: rate (conc) or rate / C_v (temp); 0 where excluded
 };
@@ -196,7 +195,7 @@ void install_sources(Installation& in) {
     for (std::size_t k = 0; k < sources->size(); ++k) {
       const SourceSpec& s = (*sources)[k];
       require_held(p, s.field, fmt::format("source[{}].field", k), "\"" + s.field + "\"");
-      Source out{s.field, s.rate, region_of(s.lo, s.hi, spec, fmt::format("source[{}]", k)), {}};
+      Source out{s.field, region_of(s.lo, s.hi, spec, fmt::format("source[{}]", k)), {}};
       for (const SpeciesSpec& sp : spec.species) {
         const bool chosen = s.species.empty() || std::find(s.species.begin(), s.species.end(), sp.name) != s.species.end();
         const double scale = s.field == "temp" ? 1.0 / sp.own.at("cv") : 1.0;

@@ -156,10 +156,7 @@ std::string tdpd_numbers(const SimulationSpec& spec) {
   if (pair_law(spec.pair_style).style != TdpdLaw::kStyle || spec.species.empty()) return "";
   const TdpdSpec* t = spec.model<TdpdSpec>("tdpd");
   const int solutes = t ? t->solutes : 1;
-  double n = 0;
-  for (const SpeciesSpec& sp : spec.species)
-    if (!sp.frozen) n += static_cast<double>(sp.count);
-  n /= spec.box[0] * spec.box[1] * spec.box[2];
+  const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
   const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
   std::string out = "tDPD (species " + spec.species.front().name + "):\n";

@@ -28,16 +28,20 @@ void require_held(const ParticleData& p, const std::string& field, const std::st
     throw SpecError(key, value, fmt::format("the run does not carry {} ([tdpd] solutes is smaller)", field));
 }
 
+double mobile_density(const SimulationSpec& spec) {
+  double n = 0;
+  for (const SpeciesSpec& sp : spec.species)
+    if (!sp.frozen) n += static_cast<double>(sp.count);
+  return n / (spec.box[0] * spec.box[1] * spec.box[2]);
+}
+
 double exchange_diffusivity(double n, double k, double rc, double s) {
   return 16.0 * std::numbers::pi * n * k * std::pow(rc, 5) * std::tgamma(s + 1.0) / std::tgamma(s + 6.0);
 }
 
 std::string scalar_numbers_line(const SimulationSpec& spec, const std::string& what, double d_kin,
                                 const std::string& number) {
-  double n = 0;
-  for (const SpeciesSpec& sp : spec.species)
-    if (!sp.frozen) n += static_cast<double>(sp.count);
-  n /= spec.box[0] * spec.box[1] * spec.box[2];
+  const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
   const double d_self = kinetic_diffusivity(n, p.gamma, spec.kT, p.rd, p.s);
   const double nu = kinetic_viscosity(n, p.gamma, spec.kT, p.rd, p.s) / n;  // unit mass

@@ -15,6 +15,9 @@ void check_scalar_field(const std::string& field, const SimulationSpec& spec, co
 // Refuses a field the particles do not hold (a solute beyond [tdpd] solutes), naming `key` = `value`.
 void require_held(const ParticleData& p, const std::string& field, const std::string& key, const std::string& value);
 
+// The number density of the mobile (not frozen) species: the fluid a transported scalar moves in.
+double mobile_density(const SimulationSpec& spec);
+
 // The mean-field diffusivity of an exchange -k w (X_i - X_j) with w = (1 - r/r_c)^s on a fluid of
 // density n (g(r) = 1): (2 pi / 3) n k Int_0^rc w r^4 dr = 16 pi n k r_c^5 Gamma(s+1) / Gamma(s+6), which
 // is 2 pi n k r_c^5 / 315 for s = 2 (docs/physics.md, "eDPD" and "tDPD").

@@ -51,14 +51,15 @@ std::vector<double> by_id(ParticleData& p, int k) {
   return c;
 }
 
-// Unwrapped positions x, y, z of every particle by id (a cubic box of side l).
-std::vector<double> unwrapped(const ParticleData& q, double l) {
+// Unwrapped positions x, y, z of every particle by id (box lx x ly x lz; a cube of side lx by default).
+std::vector<double> unwrapped(const ParticleData& q, double lx, double ly = 0, double lz = 0) {
+  if (ly == 0) ly = lz = lx;
   std::vector<double> r(3 * q.n_local);
   for (std::size_t i = 0; i < q.n_local; ++i) {
     const std::size_t k = 3 * (q.id[i] - 1);
-    r[k] = q.x[i] + q.ix[i] * l;
-    r[k + 1] = q.y[i] + q.iy[i] * l;
-    r[k + 2] = q.z[i] + q.iz[i] * l;
+    r[k] = q.x[i] + q.ix[i] * lx;
+    r[k + 1] = q.y[i] + q.iy[i] * ly;
+    r[k + 2] = q.z[i] + q.iz[i] * lz;
   }
   return r;
 }
@@ -375,23 +376,10 @@ lo = [6.0, 0.0, 0.0]
   text.replace(text.find("conc2 = 2.0"), 11, "conc2 = 5.0");
   Simulation sim(parse_config(text, "s.toml"), RunOptions{});
   const int bins = 12, steps = 300;  // t = 3
-  std::vector<double> r0(3 * sim.particles().n_local);
-  {
-    const ParticleData& q = sim.particles();
-    for (std::size_t i = 0; i < q.n_local; ++i)
-      for (int d = 0; d < 3; ++d) r0[3 * (q.id[i] - 1) + d] = (d == 0 ? q.x : d == 1 ? q.y : q.z)[i];
-  }
+  const std::vector<double> r0 = unwrapped(sim.particles(), lx, 6.0, 6.0);
   for (int k = 0; k < steps; ++k) sim.step();
   const double t = steps * dt;
-  std::vector<double> r1(r0.size());
-  {
-    const ParticleData& q = sim.particles();
-    for (std::size_t i = 0; i < q.n_local; ++i) {
-      r1[3 * (q.id[i] - 1)] = q.x[i] + q.ix[i] * lx;
-      r1[3 * (q.id[i] - 1) + 1] = q.y[i] + q.iy[i] * 6.0;
-      r1[3 * (q.id[i] - 1) + 2] = q.z[i] + q.iz[i] * 6.0;
-    }
-  }
+  const std::vector<double> r1 = unwrapped(sim.particles(), lx, 6.0, 6.0);
   const double d_self = self_diffusion(r0, r1, t);
   for (int c = 1; c <= 2; ++c) {
     std::vector<double> sum(bins, 0.0), cnt(bins, 0.0);
