@@ -103,8 +103,9 @@ void ThermoOutput::observe(const StepContext& ctx) {
   if (!ctx.pair_sums) throw std::logic_error("ThermoOutput: thermo output due but no pair sums were computed");
   const SimulationSpec& s = spec_;
   const Comm& comm = ctx.comm;
-  // Temperature across a driven flow only: the streaming velocity is not heat.
-  const int flow_axis = s.poiseuille.enabled ? s.poiseuille.flow_axis : -1;
+  // Temperature across a driven or sheared flow only: the streaming velocity is not heat.
+  const int flow_axis = ctx.box.sheared() ? ctx.box.shear.flow : (s.poiseuille.enabled ? s.poiseuille.flow_axis : -1);
+  across_flow_ = flow_axis >= 0;
   ThermoState t = compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, flow_axis, comm, frozen_);
   t.step = step;
   t.time = static_cast<double>(step) * s.dt;
@@ -140,7 +141,7 @@ std::string ThermoOutput::finish(const StepContext& ctx) {
   if (thermo_samples_ > 0) {
     summary += fmt::format("mean temperature {:.5f}{} (target {}), mean pressure {:.4f} over {} thermo rows\n",
                            temperature_sum_ / static_cast<double>(thermo_samples_),
-                           s.poiseuille.enabled ? " (across the flow)"
+                           across_flow_ ? " (across the flow)"
                            : temperature_column_ >= 0
                                ? fmt::format(" ({})", columns_[static_cast<std::size_t>(temperature_column_)].name)
                                : std::string(),
@@ -152,7 +153,7 @@ std::string ThermoOutput::finish(const StepContext& ctx) {
     // the first few time units, which is not the integrator's steady error.
     const double late_t = late_temperature_sum_ / static_cast<double>(late_samples_);
     const double n = static_cast<double>(ctx.total_particles);
-    const double dof = s.poiseuille.enabled ? 2 * n - 2 : 3 * n - 3;  // of the measured temperature
+    const double dof = across_flow_ ? 2 * n - 2 : 3 * n - 3;  // of the measured temperature
     if (auto w = temperature_warning(late_t, s, dof, late_samples_)) {
       summary += "warning: " + *w + "\n";
       warnings_.push_back(*w);

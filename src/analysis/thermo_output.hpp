@@ -72,6 +72,7 @@ class ThermoOutput final : public AnalysisStage {
   AnalysisOutput out_;
   std::vector<ThermoColumn> columns_;
   int temperature_column_;
+  bool across_flow_ = false;  // the temperature is the one across a driven or sheared flow
   OutputFile thermo_;
   double temperature_sum_ = 0, pressure_sum_ = 0;
   std::uint64_t thermo_samples_ = 0;

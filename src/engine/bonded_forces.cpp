@@ -257,10 +257,18 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   std::int64_t acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   std::uint64_t problem = kNoProblem;
 
+  const bool sheared = box.sheared();
   auto displacement = [&](std::size_t i, std::size_t j, double d[3]) {
-    d[0] = minimum_image(p.x[i] - p.x[j], ilx, hlx);
-    d[1] = minimum_image(p.y[i] - p.y[j], ily, hly);
-    d[2] = minimum_image(p.z[i] - p.z[j], ilz, hlz);
+    if (sheared) {  // Lees-Edwards images
+      d[0] = p.x[i] - p.x[j];
+      d[1] = p.y[i] - p.y[j];
+      d[2] = p.z[i] - p.z[j];
+      box_displacement(box, d);
+    } else {
+      d[0] = minimum_image(p.x[i] - p.x[j], ilx, hlx);
+      d[1] = minimum_image(p.y[i] - p.y[j], ily, hly);
+      d[2] = minimum_image(p.z[i] - p.z[j], ilz, hlz);
+    }
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
   };
   auto virial = [](std::int64_t* a, const double d[3], const double F[3]) {
@@ -452,12 +460,11 @@ void BondedForces::virial_terms(const ParticleData& p, const Box& box, VirialTer
     if (k == IdMap::kNotHere) throw std::logic_error("BondedForces::virial_terms: a bonded atom is missing");
     return k;
   };
-  const double il[3] = {box.image_len(0), box.image_len(1), box.image_len(2)};
-  const double hl[3] = {box.half_image_len(0), box.half_image_len(1), box.half_image_len(2)};
   auto displacement = [&](std::uint32_t i, std::uint32_t j, double d[3]) {
-    d[0] = minimum_image(p.x[i] - p.x[j], il[0], hl[0]);
-    d[1] = minimum_image(p.y[i] - p.y[j], il[1], hl[1]);
-    d[2] = minimum_image(p.z[i] - p.z[j], il[2], hl[2]);
+    d[0] = p.x[i] - p.x[j];
+    d[1] = p.y[i] - p.y[j];
+    d[2] = p.z[i] - p.z[j];
+    box_displacement(box, d);  // minimum image, with the Lees-Edwards images if any
   };
   for (const Bond& b : topo_.bonds) {
     VirialTerm t;

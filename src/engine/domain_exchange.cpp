@@ -8,6 +8,33 @@ namespace mesodpd {
 
 std::optional<EscapedParticle> apply_box_boundaries(ParticleData& p, const Box& box, const Comm& comm) {
   const std::size_t n = p.n_local;
+  if (box.sheared()) {
+    // Lees-Edwards: a crossing of the gradient axis first, which moves the particle along the flow axis
+    // by the image offset and changes its flow velocity (both the current one and the half-step one of
+    // velocity Verlet) by the image velocity; then the plain wrap of every axis.
+    const int g = box.shear.gradient, f = box.shear.flow;
+    std::vector<double>* r[3] = {&p.x, &p.y, &p.z};
+    std::vector<double>* v[2][3] = {{&p.vx, &p.vy, &p.vz}, {&p.hx, &p.hy, &p.hz}};
+    std::vector<std::int32_t>* image[3] = {&p.ix, &p.iy, &p.iz};
+    double* rg = r[g]->data();
+    double* rf = r[f]->data();
+    std::int32_t* ig = image[g]->data();
+    double* vf = v[0][f]->data();
+    double* hf = v[1][f]->data();
+    const bool half = p.hx.size() >= n;
+    const double lg = box.length(g), off = box.shear.offset, du = box.shear.velocity;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t before = ig[i];
+      wrap_coordinate(rg[i], ig[i], lg);
+      const double k = static_cast<double>(ig[i] - before);
+      if (k != 0.0) {
+        rf[i] -= k * off;
+        vf[i] -= k * du;
+        if (half) hf[i] -= k * du;
+      }
+    }
+  }
   if (box.all_periodic()) {
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {

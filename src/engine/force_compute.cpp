@@ -400,7 +400,28 @@ struct BatchGeometry {
   // Passes with kScalars: the held scalars (PairJob::scalar), n_scalars of them.
   int n_scalars = 0;
   const double* const* scalar = nullptr;
+  // Lees-Edwards images (Box::shear): per image count n along the gradient axis, j's image is shifted
+  // by n shift[] and moves n dv[] faster (both zero except along the flow axis). gradient < 0: none.
+  int gradient = -1, flow = -1;
+  double shift[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
 };
+
+// The BatchGeometry of a box and particles: minimum image on periodic axes, the plain difference on
+// bounded ones (Box::image_len), and the box's Lees-Edwards images.
+inline BatchGeometry batch_geometry(const ParticleData& p, const Box& box, const NoiseSettings& noise, std::uint64_t step,
+                                    int n_scalars, const double* const* scalar) {
+  BatchGeometry g{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
+                  p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
+                  box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
+                  box.half_image_len(2), noise.seed, noise.kind, step, n_scalars, scalar};
+  if (box.sheared()) {
+    g.gradient = box.shear.gradient;
+    g.flow = box.shear.flow;
+    g.shift[box.shear.flow] = box.shear.offset;
+    g.dv[box.shear.flow] = box.shear.velocity;
+  }
+  return g;
+}
 
 // Moves the batch's out-of-range pair (PairBatch::overflow) into `found`, which keeps the pair with the
 // smallest ids so that the report depends neither on threads nor on batches; clears the batch's.
@@ -468,10 +489,11 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
     }
   }
   // Pass 1: exact geometry. minimum_image() gives the same bits whichever side finds the pair.
-  for (std::size_t k = 0; k < m; ++k) {
-    const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - b.jx[k], ilx, hlx));
-    const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - b.jy[k], ily, hly));
-    const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - b.jz[k], ilz, hlz));
+  // With Lees-Edwards images the image count n along the gradient axis shifts j's image along the flow
+  // axis and adds to its velocity there (box_displacement(), written out so that it vectorises; n is
+  // odd in (i, j), so the shifted difference is too).
+  const auto store_geometry = [&](std::size_t k, PairReal dx, PairReal dy, PairReal dz, double dvx, double dvy,
+                                  double dvz) {
     const PairReal r = std::sqrt(dx * dx + dy * dy + dz * dz);
     b.r[k] = r;
     if constexpr (Pass::kDirection) {
@@ -484,10 +506,51 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
       b.dz[k] = dz;
       b.inv_r[k] = inv_r;
       if constexpr (Pass::kVelocity)
-        b.rv[k] = (dx * static_cast<PairReal>(b.ivx[k] - b.jvx[k]) + dy * static_cast<PairReal>(b.ivy[k] - b.jvy[k]) +
-                   dz * static_cast<PairReal>(b.ivz[k] - b.jvz[k])) *
+        b.rv[k] = (dx * static_cast<PairReal>(dvx) + dy * static_cast<PairReal>(dvy) + dz * static_cast<PairReal>(dvz)) *
                   inv_r;
     }
+    (void)dvx, (void)dvy, (void)dvz;
+  };
+  if (g.gradient < 0) {
+    for (std::size_t k = 0; k < m; ++k) {
+      const PairReal dx = static_cast<PairReal>(minimum_image(b.ix[k] - b.jx[k], ilx, hlx));
+      const PairReal dy = static_cast<PairReal>(minimum_image(b.iy[k] - b.jy[k], ily, hly));
+      const PairReal dz = static_cast<PairReal>(minimum_image(b.iz[k] - b.jz[k], ilz, hlz));
+      if constexpr (Pass::kVelocity)
+        store_geometry(k, dx, dy, dz, b.ivx[k] - b.jvx[k], b.ivy[k] - b.jvy[k], b.ivz[k] - b.jvz[k]);
+      else
+        store_geometry(k, dx, dy, dz, 0.0, 0.0, 0.0);
+    }
+  } else {
+    // The planes as compile-time axes (flow F before gradient G), so that the loop has no branch and
+    // vectorises like the plain one.
+    const auto sheared = [&](auto flow_axis, auto gradient_axis) {
+      constexpr int F = decltype(flow_axis)::value, G = decltype(gradient_axis)::value;
+      const double hg = G == 1 ? hly : hlz;
+      const double off = g.shift[F], du = g.dv[F];
+      for (std::size_t k = 0; k < m; ++k) {
+        const double rx = b.ix[k] - b.jx[k], ry = b.iy[k] - b.jy[k], rz = b.iz[k] - b.jz[k];
+        const double rg = G == 1 ? ry : rz;
+        const double n = (rg > hg ? 1.0 : 0.0) - (rg < -hg ? 1.0 : 0.0);  // image_count()
+        const PairReal dx = static_cast<PairReal>(minimum_image(F == 0 ? rx - n * off : rx, ilx, hlx));
+        const PairReal dy = static_cast<PairReal>(minimum_image(F == 1 ? ry - n * off : ry, ily, hly));
+        const PairReal dz = static_cast<PairReal>(minimum_image(rz, ilz, hlz));
+        if constexpr (Pass::kVelocity)
+          store_geometry(k, dx, dy, dz, b.ivx[k] - b.jvx[k] - (F == 0 ? n * du : 0.0),
+                         b.ivy[k] - b.jvy[k] - (F == 1 ? n * du : 0.0), b.ivz[k] - b.jvz[k]);
+        else
+          store_geometry(k, dx, dy, dz, 0.0, 0.0, 0.0);
+      }
+    };
+    using A0 = std::integral_constant<int, 0>;
+    using A1 = std::integral_constant<int, 1>;
+    using A2 = std::integral_constant<int, 2>;
+    if (g.gradient == 1)
+      sheared(A0{}, A1{});
+    else if (g.flow == 0)
+      sheared(A0{}, A2{});
+    else
+      sheared(A1{}, A2{});
   }
   // Pass 2: the symmetric pair noise (seed 000 Eq. 5), one loop per distribution; with scalars also
   // their antisymmetric noises (the first from the same draw).
@@ -785,6 +848,8 @@ void traverse_cell_pairs(const NeighborList& list, const ParticleData& p, const 
   const double* __restrict z = p.z.data();
   const std::uint32_t* __restrict body = reinterpret_cast<const std::uint32_t*>(p.body.data());
   const double lx = box.len.x, ly = box.len.y, lz = box.len.z;  // shifts of wrapped cell runs
+  const bool sheared = box.sheared();
+  const int flow = box.shear.flow, gradient = box.shear.gradient;
   const CellGrid& grid = list.grid();
   const std::uint32_t* start = list.cell_start().data();
   const std::size_t ncells = grid.num_owned_cells();  // ghost cells are only partners
@@ -801,7 +866,7 @@ void traverse_cell_pairs(const NeighborList& list, const ParticleData& p, const 
   for (std::size_t c = 0; c < ncells; ++c) {
     if (start[c] == start[c + 1]) continue;
     CellRun runs[CellGrid::kMaxHalfRuns];
-    const int nr = grid.half_runs(static_cast<int>(c), runs);
+    const int nr = grid.half_runs(static_cast<int>(c), runs, box.shear.offset);
     std::size_t total_c = 0;
     for (int r = 0; r < nr; ++r) total_c += start[runs[r].last + 1] - start[runs[r].first];
     if (b.cand_x.size() < total_c + PairBatch::kSlack) {  // slack for whole-vector loads and stores
@@ -819,7 +884,11 @@ void traverse_cell_pairs(const NeighborList& list, const ParticleData& p, const 
     std::size_t mc = 0;
     for (int r = 0; r < nr; ++r) {
       const CellRun& e = runs[r];
-      const double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
+      double sx = e.wx * lx - ox, sy = e.wy * ly - oy, sz = e.wz * lz - oz;
+      if (sheared) {  // the Lees-Edwards image of a run across the gradient faces (CellGrid::half_runs)
+        const double w = gradient == 0 ? e.wx : (gradient == 1 ? e.wy : e.wz);
+        (flow == 0 ? sx : (flow == 1 ? sy : sz)) += w * box.shear.offset;
+      }
       const std::uint32_t j0 = start[e.first], j1 = start[e.last + 1];
       const auto vsx = hn::Set(dd, sx), vsy = hn::Set(dd, sy), vsz = hn::Set(dd, sz);
       std::uint32_t j = j0;
@@ -946,12 +1015,7 @@ void run_loop(PairJob& job, const Pass& pass, double cutoff) {
   const std::size_t ntot = p.size();  // local particles, then ghosts
   const bool ghosts = p.n_ghost > 0 || job.exchange;
   const int nthreads = prepare_workspace(ws, C, ntot, ghosts);
-  // Minimum image on periodic axes, the plain difference on bounded ones (Box::image_len).
-  const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
-                          p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
-                          box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
-                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
-                          Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar};
+  const BatchGeometry geo = batch_geometry(p, box, job.noise, job.step, Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar);
   // The filter keeps a relative margin so that no pair the exact evaluation would count is dropped
   // because the filter's displacement was rounded differently.
   const PairReal filter2 = static_cast<PairReal>(cutoff * cutoff * (1.0 + kFilterMargin));
@@ -989,11 +1053,7 @@ void run_listed(PairJob& job, const Pass& pass) {
   PairWorkspace& ws = *job.ws;
   if (ws.batches.empty()) ws.batches.push_back(std::make_unique<PairBatch>());
   PairBatch& b = *ws.batches[0];
-  const BatchGeometry geo{p.x.data(),       p.y.data(),       p.z.data(),       p.vx.data(),
-                          p.vy.data(),      p.vz.data(),      p.id.data(),      box.image_len(0),
-                          box.image_len(1), box.image_len(2), box.half_image_len(0), box.half_image_len(1),
-                          box.half_image_len(2), job.noise.seed, job.noise.kind, job.step,
-                          Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar};
+  const BatchGeometry geo = batch_geometry(p, box, job.noise, job.step, Pass::kScalars > 0 ? job.n_scalars : 0, job.scalar);
   std::int64_t local[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   std::int64_t* f = job.subtract_into;
   for (std::size_t k0 = 0; k0 < job.n_pairs; k0 += PairBatch::kCapacity) {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -15,6 +16,7 @@
 
 #include "analysis/observers.hpp"
 #include "analysis/thermo_output.hpp"
+#include "core/box.hpp"
 #include "core/stage.hpp"
 #include "io/byte_buffer.hpp"
 #include "mesodpd/model_section.hpp"
@@ -105,6 +107,10 @@ struct Model {
   // What `mesodpd check` prints for this model before a run (its estimates: diffusivities, Prandtl and
   // Schmidt numbers), lines ending in '\n'; empty, or returning "", when it has nothing to say.
   std::function<std::string(const SimulationSpec&)> numbers;
+  // The box's moving periodic images (Lees-Edwards shear, core/box.hpp), for a model that imposes them:
+  // read before the particles and the rank grid are made (the flow axis is then never split over
+  // ranks), and advanced by Simulation to the time of each step's positions. At most one model.
+  std::function<std::optional<ShearImages>(const SimulationSpec&)> shear;
 };
 
 // The models, in order: those of engine/installers.cpp with any registered at run time among them.

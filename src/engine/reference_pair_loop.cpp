@@ -12,13 +12,20 @@ namespace mesodpd {
 
 namespace {
 // Calls visit(i, j, dx, dy, dz, r) for every pair i < j of local particles within `cutoff` (minimum
-// image on periodic axes only).
+// image on periodic axes only; with Lees-Edwards images, box_displacement()).
 template <class Visit>
 void for_each_pair(const ParticleData& p, const Box& box, double cutoff, Visit&& visit) {
   const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
   const double hx = box.half_image_len(0), hy = box.half_image_len(1), hz = box.half_image_len(2);
   for (std::size_t i = 0; i < p.n_local; ++i)
     for (std::size_t j = i + 1; j < p.n_local; ++j) {
+      if (box.sheared()) {
+        double d[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+        box_displacement(box, d);
+        const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (r < cutoff) visit(i, j, d[0], d[1], d[2], r);
+        continue;
+      }
       const double dx = minimum_image(p.x[i] - p.x[j], lx, hx);
       const double dy = minimum_image(p.y[i] - p.y[j], ly, hy);
       const double dz = minimum_image(p.z[i] - p.z[j], lz, hz);
@@ -30,10 +37,12 @@ void for_each_pair(const ParticleData& p, const Box& box, double cutoff, Visit&&
 // The same pairs, visited in the same order (i ascending, then j ascending) with the same arithmetic,
 // found through cells at least `cutoff` wide instead of by trying every pair: O(N) for the analyses
 // that run this loop during a simulation. Falls back to the double loop when an axis has fewer than
-// three cells (a neighbour cell would then be visited twice through the periodic wrap).
+// three cells (a neighbour cell would then be visited twice through the periodic wrap), and with
+// Lees-Edwards images (whose shifted neighbour cells this binning does not follow).
 template <class Visit>
 void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, Visit&& visit) {
   const std::size_t n = p.n_local;
+  if (box.sheared()) return for_each_pair(p, box, cutoff, visit);
   int nc[3];
   double inv_w[3];
   for (int d = 0; d < 3; ++d) {
@@ -143,7 +152,12 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
             const double inv_r = r > 0 ? 1.0 / r : 0.0;
             PairInput<double> in;
             in.r = r;
-            in.rv = (dx * (p.vx[i] - p.vx[j]) + dy * (p.vy[i] - p.vy[j]) + dz * (p.vz[i] - p.vz[j])) * inv_r;
+            // The image count along the gradient axis gives the Lees-Edwards velocity of j's image.
+            double raw[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+            const double n_img = box_displacement(box, raw);
+            double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
+            if (box.sheared()) dv[box.shear.flow] -= n_img * box.shear.velocity;
+            in.rv = (dx * dv[0] + dy * dv[1] + dz * dv[2]) * inv_r;
             in.inv_sqrt_dt = 1.0 / std::sqrt(dt);
             if (rho != nullptr) {
               in.rho_i = rho[i];

@@ -93,6 +93,25 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   const bool restarted = !options_.restart.empty();
   const Comm comm = Comm::world();
   box_.periodic = spec_.periodic;
+  // Moving images, if a model imposes them (Lees-Edwards shear; engine/installer.hpp, Model::shear).
+  for (const Model& model : models())
+    if (model.shear)
+      if (const std::optional<ShearImages> images = model.shear(spec_)) {
+        if (box_.sheared()) throw std::logic_error("two models set the box's shear images (" + model.name + ")");
+        box_.shear = *images;
+      }
+  std::array<int, 3> rank_grid = spec_.parallel_grid;
+  if (box_.sheared()) {
+    // The flow axis stays whole on every rank: the shifted images across the gradient faces then lie
+    // on the same rank as the unshifted ones.
+    const auto f = static_cast<std::size_t>(box_.shear.flow);
+    if (rank_grid[f] > 1)
+      throw ConfigError(fmt::format("parallel.grid: {} splits the flow axis {} of the Lees-Edwards shear over {} ranks; "
+                                    "use 1 (or 0) along {}",
+                                    format_grid(rank_grid), "xyz"[f], rank_grid[f], "xyz"[f]),
+                        "parallel.grid");
+    rank_grid[f] = 1;
+  }
   const double range = nlist_.settings().cutoff + nlist_.settings().skin;
   auto check_box = [&] {
     const double two_rc = 2 * forces_->max_cutoff();
@@ -101,7 +120,7 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
   };
   auto decompose = [&] {
     halo_ = Halo(comm, Decomposition::make(comm.size(), comm.rank(), CellGrid::dims_for(box_, range),
-                                           {box_.len.x, box_.len.y, box_.len.z}, spec_.parallel_grid, range,
+                                           {box_.len.x, box_.len.y, box_.len.z}, rank_grid, range,
                                            box_.periodic));
   };
   std::vector<double> equilibrated;
@@ -136,6 +155,8 @@ Simulation::Simulation(SimulationSpec spec, RunOptions options)
     if (comm.distributed()) malloc_trim(0);
 #endif
   }
+  // The images of the starting time (a restart continues the offset exactly: it is a function of the step).
+  box_.set_time(static_cast<double>(step_) * spec_.dt);
   start_step_ = step_;
   // Every model joins through its installer, in the order of engine/installers.cpp.
   std::vector<Summary> summaries;
@@ -310,7 +331,9 @@ void Simulation::step() {
     subcycle_bonded_forces();
   else
     std::visit([&](const auto& integ) { integ.pre_force(p_, inv_mass_, spec_.dt); }, integrator_);
-  // 2. Box boundaries: periodic wrap of the local particles; a particle outside a bounded axis is lost.
+  // 2. Box boundaries: periodic wrap of the local particles (with shear, the images of the new time); a
+  //    particle outside a bounded axis is lost.
+  box_.set_time(static_cast<double>(step_ + 1) * spec_.dt);
   if (const auto lost = apply_box_boundaries(p_, box_, halo_.comm()))
     throw BlowUpError(step_ + 1, lost->id,
                       fmt::format("particle id {} left the box at step {}: position ({}, {}, {}) is outside [0, {}) "

@@ -93,8 +93,11 @@ class Simulation {
   const Box& box() const { return box_; }
   std::uint64_t current_step() const { return step_; }
   const std::vector<double>& species_mass() const { return mass_; }
-  // Axis (0, 1, 2) of a driven reverse-Poiseuille flow, or -1: thermo's temperature across the flow.
-  int flow_axis() const { return spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1; }
+  // Axis (0, 1, 2) of a driven reverse-Poiseuille flow or of the Lees-Edwards shear, or -1: thermo's
+  // temperature across the flow.
+  int flow_axis() const {
+    return box_.sheared() ? box_.shear.flow : (spec_.poiseuille.enabled ? spec_.poiseuille.flow_axis : -1);
+  }
   std::uint64_t final_step() const { return final_step_; }
   // The object of type T that an installer shared (engine/installer.hpp), or null: for instance the
   // Walls of a run with [[solid]] blocks.

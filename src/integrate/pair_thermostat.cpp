@@ -67,61 +67,83 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
                            std::uint64_t step, double dt) {
   bin(p, box);
   const double rc = params_.rc, rc2 = rc * rc, kT = params_.kT;
-  const double len[3] = {box.image_len(0), box.image_len(1), box.image_len(2)};
-  const double half[3] = {box.half_image_len(0), box.half_image_len(1), box.half_image_len(2)};
   // The distinct neighbouring cell coordinates of c along axis d (fewer than three when the axis has
-  // fewer than three cells, or at the faces of a bounded axis).
-  const auto near = [&](int c, int d, int out[3]) {
+  // fewer than three cells, or at the faces of a bounded axis), and whether each wrapped round.
+  const auto near = [&](int c, int d, int out[3], bool wrapped[3]) {
     const int nd = dims_[static_cast<std::size_t>(d)];
     int count = 0;
     for (int o = -1; o <= 1; ++o) {
       int k = c + o;
+      bool w = false;
       if (k < 0 || k >= nd) {
         if (!box.periodic[static_cast<std::size_t>(d)]) continue;
         k = (k + nd) % nd;
+        w = true;
       }
-      if (std::find(out, out + count, k) == out + count) out[count++] = k;
+      if (std::find(out, out + count, k) == out + count) {
+        wrapped[count] = w;
+        out[count++] = k;
+      }
     }
     return count;
   };
+  // With Lees-Edwards images a neighbour row across the gradient faces takes the whole flow axis (its
+  // image is shifted there); the gradient axis has at least three cells (validated), so the relation
+  // "is a neighbour cell" stays symmetric and each pair is met once. Without shear the axes' roles
+  // are only names.
+  const bool sheared = box.sheared();
+  const int ga = sheared ? box.shear.gradient : 0, fa = sheared ? box.shear.flow : 1, oa = 3 - ga - fa;
+  std::vector<int> whole_row(static_cast<std::size_t>(dims_[static_cast<std::size_t>(fa)]));
+  for (std::size_t k = 0; k < whole_row.size(); ++k) whole_row[k] = static_cast<int>(k);
   std::uint64_t pairs = 0;
   for (std::size_t k = 0; k < p.n_local; ++k) {
     const std::uint32_t i = order_[k];
     const int c = static_cast<int>(cell_of_[i]);
-    const int cz = c % dims_[2], cy = (c / dims_[2]) % dims_[1], cx = c / (dims_[2] * dims_[1]);
-    int nx[3], ny[3], nz[3];
-    const int mx = near(cx, 0, nx), my = near(cy, 1, ny), mz = near(cz, 2, nz);
+    const int q[3] = {c / (dims_[2] * dims_[1]), (c / dims_[2]) % dims_[1], c % dims_[2]};
+    int nb[3][3];
+    bool wrapped[3][3];
+    int m[3];
+    for (int d = 0; d < 3; ++d) m[d] = near(q[d], d, nb[d], wrapped[d]);
     // Partners later in the sweep order, closer than rc, by id. Later means a neighbouring cell of a
     // higher index, or this cell after i: the cells of lower index are skipped whole.
     partners_.clear();
-    for (int a = 0; a < mx; ++a)
-      for (int b = 0; b < my; ++b)
-        for (int e = 0; e < mz; ++e) {
-          const int cell = (nx[a] * dims_[1] + ny[b]) * dims_[2] + nz[e];
+    for (int bg = 0; bg < m[ga]; ++bg) {
+      const bool whole = sheared && wrapped[ga][bg];
+      const int* fl = whole ? whole_row.data() : nb[fa];
+      const int mf = whole ? static_cast<int>(whole_row.size()) : m[fa];
+      for (int af = 0; af < mf; ++af)
+        for (int ao = 0; ao < m[oa]; ++ao) {
+          int cc[3];
+          cc[ga] = nb[ga][bg];
+          cc[fa] = fl[af];
+          cc[oa] = nb[oa][ao];
+          const int cell = (cc[0] * dims_[1] + cc[1]) * dims_[2] + cc[2];
           if (cell < c) continue;
           const std::uint32_t first =
               cell == c ? static_cast<std::uint32_t>(k) + 1 : cell_start_[static_cast<std::size_t>(cell)];
-          for (std::uint32_t q = first; q < cell_start_[static_cast<std::size_t>(cell) + 1]; ++q) {
-            const std::uint32_t j = order_[q];
-            const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
-            const double dy = minimum_image(p.y[i] - p.y[j], len[1], half[1]);
-            const double dz = minimum_image(p.z[i] - p.z[j], len[2], half[2]);
-            if (dx * dx + dy * dy + dz * dz < rc2) partners_.push_back(j);
+          for (std::uint32_t qq = first; qq < cell_start_[static_cast<std::size_t>(cell) + 1]; ++qq) {
+            const std::uint32_t j = order_[qq];
+            double d[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+            box_displacement(box, d);
+            if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rc2) partners_.push_back(j);
           }
         }
+    }
     std::sort(partners_.begin(), partners_.end(),
               [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
     const double mi = species_mass[static_cast<std::size_t>(p.species[i])];
     for (const std::uint32_t j : partners_) {
-      const double dx = minimum_image(p.x[i] - p.x[j], len[0], half[0]);
-      const double dy = minimum_image(p.y[i] - p.y[j], len[1], half[1]);
-      const double dz = minimum_image(p.z[i] - p.z[j], len[2], half[2]);
+      double d[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+      const double n_img = box_displacement(box, d);
+      const double dx = d[0], dy = d[1], dz = d[2];
       const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
       if (r == 0.0) continue;  // no line of centres
       const double ex = dx / r, ey = dy / r, ez = dz / r;
       const double mj = species_mass[static_cast<std::size_t>(p.species[j])];
       const double mu = mi * mj / (mi + mj);
-      const double u = ex * (p.vx[i] - p.vx[j]) + ey * (p.vy[i] - p.vy[j]) + ez * (p.vz[i] - p.vz[j]);
+      double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
+      if (sheared) dv[fa] -= n_img * box.shear.velocity;  // j's Lees-Edwards image moves faster
+      const double u = ex * dv[0] + ey * dv[1] + ez * dv[2];
       const Philox4x32 bits =
           pair_random_bits(params_.seed, step, p.id[i], p.id[j], RngStream::PairThermostat);
       double u_new = u;

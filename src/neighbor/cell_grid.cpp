@@ -26,6 +26,11 @@ CellGrid::CellGrid(const Box& box, double min_size, const CellDomain& domain) {
     ghost_[d] = split && domain.ghost[d] ? 1 : 0;
     any_ghost = any_ghost || ghost_[d] != 0;
   }
+  if (box.sheared()) {
+    flow_ = box.shear.flow;
+    gradient_ = box.shear.gradient;
+    flow_len_ = box.length(flow_);
+  }
   num_owned_ = static_cast<std::size_t>(own_[0]) * static_cast<std::size_t>(own_[1]) * static_cast<std::size_t>(own_[2]);
   num_cells_ = num_owned_;
   if (any_ghost) {
@@ -46,7 +51,7 @@ CellGrid::CellGrid(const Box& box, double min_size, const CellDomain& domain) {
   if (has_half_stencil() && own_[0] >= 3 && own_[1] >= 3 && own_[2] >= 2) {
     // Any interior cell serves as the template; store its runs relative to its index.
     const int c = (0 * own_[1] + 1) * own_[0] + 1;
-    interior_count_ = half_runs_general(c, interior_runs_);
+    interior_count_ = half_runs_general(c, interior_runs_, 0.0);
     for (int r = 0; r < interior_count_; ++r) {
       interior_runs_[r].first -= c;
       interior_runs_[r].last -= c;
@@ -60,11 +65,11 @@ int CellGrid::index_of(int lx, int ly, int lz) const {
   return ghost_index_[static_cast<std::size_t>(((lz + ghost_[2]) * ey + (ly + ghost_[1])) * ex + (lx + ghost_[0]))];
 }
 
-int CellGrid::half_runs(int c, CellRun* out) const {
+int CellGrid::half_runs(int c, CellRun* out, double shear_offset) const {
   const int cx = c % own_[0], cy = (c / own_[0]) % own_[1], cz = c / (own_[0] * own_[1]);
   const bool interior = interior_count_ > 0 && cx > 0 && cx < own_[0] - 1 && cy > 0 && cy < own_[1] - 1 &&
                         cz < own_[2] - 1;
-  if (!interior) return half_runs_general(c, out);
+  if (!interior) return half_runs_general(c, out, shear_offset);
   for (int r = 0; r < interior_count_; ++r) {
     out[r] = interior_runs_[r];
     out[r].first += c;
@@ -73,7 +78,7 @@ int CellGrid::half_runs(int c, CellRun* out) const {
   return interior_count_;
 }
 
-int CellGrid::half_runs_general(int c, CellRun* out) const {
+int CellGrid::half_runs_general(int c, CellRun* out, double shear_offset) const {
   const int q[3] = {c % own_[0], (c / own_[0]) % own_[1], c / (own_[0] * own_[1])};
   int count = 0;
   out[count++] = CellRun{c, c, 0, 0, 0};
@@ -90,23 +95,49 @@ int CellGrid::half_runs_general(int c, CellRun* out) const {
     return wrap;
   };
   // Forward half: offsets lexicographically positive in (dz, dy, dx). Enumerated in that order, interior
-  // cells come out in increasing storage order, so adjacent ones merge into runs.
-  for (int dz = 0; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const bool forward = dz > 0 || (dy > 0 || (dy == 0 && dx > 0));
-        if (!forward) continue;
-        int nx, ny, nz;
-        absent = false;
-        const std::int8_t wx = step(0, dx, nx), wy = step(1, dy, ny), wz = step(2, dz, nz);
-        if (absent) continue;
-        const int cell = index_of(nx, ny, nz);
-        CellRun& last = out[count - 1];
-        if (cell == last.last + 1 && wx == last.wx && wy == last.wy && wz == last.wz)
-          last.last = cell;
-        else
-          out[count++] = CellRun{cell, cell, wx, wy, wz};
-      }
+  // cells come out in increasing storage order, so adjacent ones merge into runs. With shear, a row
+  // whose gradient step leaves the global grid (wrap w != 0 along the gradient axis) has its image
+  // shifted by w * shear_offset along the flow axis, s cells: the partners of the shifted image of cells
+  // q-1 .. q+1 lie in the four cells from floor(q - 1 - s) on. The flow axis comes after the gradient
+  // axis in the loops (flow < gradient), so the row's wrap is known when its flow cells are chosen.
+  const double cells_per_offset = flow_ >= 0 ? n_[static_cast<std::size_t>(flow_)] / flow_len_ : 0.0;
+  int delta[3] = {0, 0, 0};
+  std::int8_t wrap[3] = {0, 0, 0};
+  auto emit = [&]() {
+    const bool forward = delta[2] > 0 || (delta[2] == 0 && (delta[1] > 0 || (delta[1] == 0 && delta[0] > 0)));
+    if (!forward) return;
+    int local[3];
+    absent = false;
+    for (int d = 0; d < 3; ++d) wrap[d] = step(d, delta[d], local[d]);
+    if (absent) return;
+    const int cell = index_of(local[0], local[1], local[2]);
+    CellRun& last = out[count - 1];
+    if (cell == last.last + 1 && wrap[0] == last.wx && wrap[1] == last.wy && wrap[2] == last.wz)
+      last.last = cell;
+    else
+      out[count++] = CellRun{cell, cell, wrap[0], wrap[1], wrap[2]};
+  };
+  // The flow-axis offsets of a row: -1 .. 1, or the four shifted ones of a crossing row.
+  auto flow_range = [&](int& a, int& b) {
+    a = -1;
+    b = 1;
+    if (flow_ < 0) return;
+    const auto ga = static_cast<std::size_t>(gradient_);
+    const int g = lo_[ga] + q[ga] + delta[ga];
+    const int w = g < 0 ? -1 : (g >= n_[ga] ? 1 : 0);
+    if (w == 0) return;
+    a = static_cast<int>(std::floor(-1.0 - w * shear_offset * cells_per_offset));
+    b = a + 3;
+  };
+  for (delta[2] = 0; delta[2] <= 1; ++delta[2]) {
+    int y0 = -1, y1 = 1;
+    if (flow_ == 1) flow_range(y0, y1);
+    for (delta[1] = y0; delta[1] <= y1; ++delta[1]) {
+      int x0 = -1, x1 = 1;
+      if (flow_ == 0) flow_range(x0, x1);
+      for (delta[0] = x0; delta[0] <= x1; ++delta[0]) emit();
+    }
+  }
   return count;
 }
 

@@ -3,6 +3,12 @@
 // periodic axis the stencil wraps around; along a bounded axis (Box::periodic) the cells beyond either
 // face are absent and the stencil leaves them out.
 //
+// With Lees-Edwards images (Box::shear) the cells one box length up the gradient axis sit `offset`
+// further along the flow axis: a stencil row that crosses the gradient faces takes the four flow-axis
+// cells that the shifted image of the three neighbours overlaps (half_runs), or the whole flow row
+// (for_each_neighbor_cell). Since the flow axis precedes the gradient axis in the (z, y, x) order, such
+// a row is wholly forward or wholly backward, and the half stencil still finds every pair once.
+//
 // Under domain decomposition a grid covers one rank's block of whole cells plus, along each split axis,
 // one layer of ghost cells on either side. Owned cells are numbered first, (z, y, x) lexicographically,
 // ghost cells after them, so local particles sorted by cell come before ghosts. Along an axis that is not
@@ -36,8 +42,9 @@ struct CellDomain {
 
 class CellGrid {
  public:
-  // Upper bound on the runs of one half stencil: the own cell plus 13 forward cells.
-  static constexpr int kMaxHalfRuns = 14;
+  // Upper bound on the runs of one half stencil: the own cell plus 13 forward cells, and with shear one
+  // more cell in each of the (at most three) forward rows that cross the gradient faces.
+  static constexpr int kMaxHalfRuns = 17;
 
   CellGrid() = default;
   CellGrid(const Box& box, double min_size, const CellDomain& domain = {});
@@ -82,18 +89,25 @@ class CellGrid {
   // With at least three cells along every periodic axis (any number along a bounded one, which does
   // not wrap), visiting the own cell (pairs j > i) plus the 13 "forward" neighbour cells (half of the
   // 26, less those beyond a bounded face) finds every pair exactly once.
+  // With shear also four cells along the flow axis (the four shifted cells of a crossing row).
   bool has_half_stencil() const {
     for (std::size_t d = 0; d < 3; ++d)
       if (periodic_[d] && n_[d] < 3) return false;
-    return true;
+    return !(flow_ >= 0 && n_[static_cast<std::size_t>(flow_)] < 4);
   }
   const std::array<bool, 3>& periodic() const { return periodic_; }
   // Writes the own cell followed by the forward cells of owned cell `c`, merged into runs of
   // storage-adjacent cells with a common wrap, into out[0..return). out[0] starts at c itself.
-  int half_runs(int c, CellRun* out) const;
+  // `shear_offset` is the box's current image offset (Box::shear.offset; ignored without shear): the
+  // image of a run whose wrap along the gradient axis is w lies w * shear_offset further along the flow
+  // axis, which the caller adds to the run's shift.
+  int half_runs(int c, CellRun* out, double shear_offset = 0.0) const;
+  // Lees-Edwards axes of the box the grid was made for (-1: no shear).
+  int flow_axis() const { return flow_; }
+  int gradient_axis() const { return gradient_; }
 
  private:
-  int half_runs_general(int c, CellRun* out) const;
+  int half_runs_general(int c, CellRun* out, double shear_offset) const;
 
   // Runs of an interior cell (no wrap, all neighbours owned), relative to the cell's own index.
   CellRun interior_runs_[kMaxHalfRuns]{};
@@ -104,6 +118,8 @@ class CellGrid {
   std::array<bool, 3> periodic_{true, true, true};
   std::size_t num_cells_ = 1, num_owned_ = 1;
   std::vector<int> ghost_index_;  // extended grid -> cell index, when there are ghost layers
+  int flow_ = -1, gradient_ = -1;  // Lees-Edwards axes (Box::shear), -1 without shear
+  double flow_len_ = 1.0;          // the box length along the flow axis
 };
 
 template <class F>
@@ -112,14 +128,41 @@ void CellGrid::for_each_neighbor_cell(int c, F&& f) const {
   // Offsets per dimension that reach distinct cells. Periodic: {0} for 1 cell, {0,1} for 2, {-1,0,1}
   // otherwise. Bounded: those of {-1,0,1} that stay inside [0, n).
   const int q[3] = {cx, cy, cz};
+  // With shear a row that crosses the gradient faces takes the whole flow axis (the shifted image may
+  // overlap any of its cells); the gradient axis then has at least three cells (validated), so a
+  // crossing is told apart from a step inside the grid.
   auto lo = [&](std::size_t d) { return periodic_[d] ? (n_[d] >= 3 ? -1 : 0) : (q[d] > 0 ? -1 : 0); };
   auto hi = [&](std::size_t d) { return periodic_[d] ? (n_[d] >= 2 ? 1 : 0) : (q[d] < n_[d] - 1 ? 1 : 0); };
-  for (int dz = lo(2); dz <= hi(2); ++dz)
-    for (int dy = lo(1); dy <= hi(1); ++dy)
-      for (int dx = lo(0); dx <= hi(0); ++dx) {
+  auto crossing = [&](int dg) {
+    if (gradient_ < 0) return false;
+    const int k = q[static_cast<std::size_t>(gradient_)] + dg;
+    return k < 0 || k >= n_[static_cast<std::size_t>(gradient_)];
+  };
+  int d_of[3] = {0, 0, 0};
+  auto range = [&](std::size_t d, int& a, int& b) {
+    a = lo(d);
+    b = hi(d);
+    if (static_cast<int>(d) == flow_ && crossing(d_of[static_cast<std::size_t>(gradient_)])) {
+      a = -q[d];
+      b = n_[d] - 1 - q[d];
+    }
+  };
+  int z0, z1;
+  range(2, z0, z1);
+  for (int dz = z0; dz <= z1; ++dz) {
+    d_of[2] = dz;
+    int y0, y1;
+    range(1, y0, y1);
+    for (int dy = y0; dy <= y1; ++dy) {
+      d_of[1] = dy;
+      int x0, x1;
+      range(0, x0, x1);
+      for (int dx = x0; dx <= x1; ++dx) {
         const int nx = (cx + dx + n_[0]) % n_[0], ny = (cy + dy + n_[1]) % n_[1], nz = (cz + dz + n_[2]) % n_[2];
         f((nz * n_[1] + ny) * n_[0] + nx);
       }
+    }
+  }
 }
 
 }  // namespace mesodpd

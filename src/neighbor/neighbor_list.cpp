@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace mesodpd {
@@ -12,10 +13,30 @@ bool NeighborList::needs_rebuild(const ParticleData& p, const Box& box) const {
   if (settings_.skin <= 0.0) return true;
   int moved = (builds_ == 0 || x0_.size() != p.n_local) ? 1 : 0;
   if (!moved) {
-    const double limit2 = 0.25 * settings_.skin * settings_.skin;
+    // With Lees-Edwards images a pair across the gradient faces also moves apart by the change of the
+    // image offset since the build, drift; and a particle that crossed those faces was moved by the
+    // offset of its crossing, which the displacement below measures with today's offset, off by at most
+    // drift. The list stays valid while 2 (max displacement + drift) + drift <= skin.
+    double drift = 0.0;
+    if (box.sheared()) {
+      const int f = box.shear.flow;
+      drift = std::abs(minimum_image(box.shear.offset - offset0_, box.image_len(f), box.half_image_len(f)));
+    }
+    const double reach = 0.5 * (settings_.skin - 3.0 * drift);
+    if (reach <= 0.0) return true;
+    const double limit2 = reach * reach;
+    const std::size_t n = p.n_local;
+    if (box.sheared()) {
+#pragma omp parallel for reduction(| : moved) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        double d[3] = {p.x[i] - x0_[i], p.y[i] - y0_[i], p.z[i] - z0_[i]};
+        box_displacement(box, d);
+        moved |= (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit2) ? 1 : 0;
+      }
+      return moved != 0;
+    }
     const double lx = box.image_len(0), ly = box.image_len(1), lz = box.image_len(2);
     const double hlx = box.half_image_len(0), hly = box.half_image_len(1), hlz = box.half_image_len(2);
-    const std::size_t n = p.n_local;
 #pragma omp parallel for reduction(| : moved) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       const double dx = minimum_image(p.x[i] - x0_[i], lx, hlx);
@@ -35,7 +56,8 @@ void NeighborList::build(ParticleData& p, const Box& box, ParticleData::Forces f
 
 void NeighborList::set_grid(const Box& box, const CellDomain& domain) {
   const bool same = has_grid_ && box.len.x == grid_box_.len.x && box.len.y == grid_box_.len.y &&
-                    box.len.z == grid_box_.len.z && domain == grid_domain_;
+                    box.len.z == grid_box_.len.z && domain == grid_domain_ &&
+                    box.shear.flow == grid_box_.shear.flow && box.shear.gradient == grid_box_.shear.gradient;
   if (same) return;
   grid_ = CellGrid(box, settings_.cutoff + settings_.skin, domain);
   grid_box_ = box;
@@ -144,22 +166,32 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
   // Grids with three or more cells per direction use the half stencil (own cell with j > i, plus 13
   // forward cells); smaller grids visit each distinct neighbour cell and keep pairs with j > i.
   const bool half = grid_.has_half_stencil() && (settings_.sort || decomposed);
+  const bool sheared = box.sheared();
+  // The squared pair distance under the box's images (Lees-Edwards or plain).
+  auto dist2 = [&](double xi, double yi, double zi, std::uint32_t j) {
+    if (sheared) {
+      double d[3] = {xi - p.x[j], yi - p.y[j], zi - p.z[j]};
+      box_displacement(box, d);
+      return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    }
+    const double dx = minimum_image(xi - p.x[j], lx, hlx);
+    const double dy = minimum_image(yi - p.y[j], ly, hly);
+    const double dz = minimum_image(zi - p.z[j], lz, hlz);
+    return dx * dx + dy * dy + dz * dz;
+  };
   auto visit = [&](std::size_t i, auto&& emit) {
     const double xi = p.x[i], yi = p.y[i], zi = p.z[i];
     auto scan = [&](std::uint32_t k0, std::uint32_t k1) {
       for (std::uint32_t k = k0; k < k1; ++k) {
         const std::uint32_t j = order_[k];
-        const double dx = minimum_image(xi - p.x[j], lx, hlx);
-        const double dy = minimum_image(yi - p.y[j], ly, hly);
-        const double dz = minimum_image(zi - p.z[j], lz, hlz);
-        if (dx * dx + dy * dy + dz * dz < range2) emit(j);
+        if (dist2(xi, yi, zi, j) < range2) emit(j);
       }
     };
     const int c = static_cast<int>(cell_index_[i]);
     if (half) {
       // Sorted storage: particle i sits at position i of the cell order.
       CellRun runs[CellGrid::kMaxHalfRuns];
-      const int nr = grid_.half_runs(c, runs);
+      const int nr = grid_.half_runs(c, runs, box.shear.offset);
       // The first run starts with the own cell: partners after i only.
       scan(static_cast<std::uint32_t>(i) + 1, cell_start_[static_cast<std::size_t>(runs[0].last) + 1]);
       for (int r = 1; r < nr; ++r)
@@ -170,10 +202,7 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
       for (std::uint32_t k = cell_start_[static_cast<std::size_t>(nc2)]; k < cell_start_[static_cast<std::size_t>(nc2) + 1]; ++k) {
         const std::uint32_t j = order_[k];
         if (j <= i) continue;
-        const double dx = minimum_image(xi - p.x[j], lx, hlx);
-        const double dy = minimum_image(yi - p.y[j], ly, hly);
-        const double dz = minimum_image(zi - p.z[j], lz, hlz);
-        if (dx * dx + dy * dy + dz * dz < range2) emit(j);
+        if (dist2(xi, yi, zi, j) < range2) emit(j);
       }
     });
   };
@@ -211,6 +240,7 @@ void NeighborList::finish(ParticleData& p, const Box& box, std::span<const std::
   x0_.assign(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(n));
   y0_.assign(p.y.begin(), p.y.begin() + static_cast<std::ptrdiff_t>(n));
   z0_.assign(p.z.begin(), p.z.begin() + static_cast<std::ptrdiff_t>(n));
+  offset0_ = box.shear.offset;
   ++builds_;
 }
 

@@ -22,7 +22,8 @@ class NeighborList {
  public:
   explicit NeighborList(NeighborSettings s) : settings_(s) {}
 
-  // True when some local particle moved more than skin/2 since the last build (or none was built). This
+  // True when some local particle moved more than skin/2 since the last build (or none was built; with
+  // Lees-Edwards images the change of the image offset counts against the skin too). This
   // rank's answer only: under MPI the caller combines the answers of all ranks, which rebuild together.
   bool needs_rebuild(const ParticleData& p, const Box& box) const;
 
@@ -80,6 +81,7 @@ class NeighborList {
   std::vector<std::uint32_t> thread_cell_slots_;  // counting sort: per thread and cell, count then first slot
   std::vector<std::uint64_t> thread_block_sums_;
   std::vector<double> x0_, y0_, z0_;  // positions at the last build
+  double offset0_ = 0.0;              // the Lees-Edwards image offset at the last build
   std::uint64_t builds_ = 0;
   std::uint64_t sorted_generation_ = 0;  // ParticleData::generation() after the last sorted build
   bool cells_only_ = false;
