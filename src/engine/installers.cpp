@@ -21,6 +21,10 @@ ModelSection source_section();                   // [[source]]
 ModelSection reaction_section();                 // [[reaction]]
 void install_buoyancy(Installation& in);         // [buoyancy]: Boussinesq body force (Forces)
 ModelSection buoyancy_section();
+void install_lees_edwards(Installation& in);     // [lees_edwards]: shear images, profile, stress (EndOfStep)
+ModelSection lees_edwards_section();
+std::string lees_edwards_numbers(const SimulationSpec&);
+std::optional<ShearImages> lees_edwards_images(const SimulationSpec&);
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -60,6 +64,8 @@ std::vector<Model> models() {
                           // [[reaction]]'s keys; the sources' installer runs its stages too.
                           {"reactions", +[](Installation&) {}, reaction_section},
                           {"buoyancy", install_buoyancy, buoyancy_section},
+                          {"lees_edwards", install_lees_edwards, lees_edwards_section, lees_edwards_numbers,
+                           lees_edwards_images},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},
