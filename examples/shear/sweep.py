@@ -121,7 +121,7 @@ def main():
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(5, 3.6))
+        fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.6))
         rates = [r[0] for r in results]
         for key, label in (("eta", "total"), ("eta_kinetic", "kinetic"), ("eta_pairs", "pairs")):
             ax.errorbar(rates, [r[2][key][0] for r in results], yerr=[r[2][key][1] for r in results],
@@ -129,8 +129,17 @@ def main():
         ax.set_xscale("log")
         ax.set_xlabel("shear rate")
         ax.set_ylabel("viscosity")
-        ax.set_title(f"Lees-Edwards shear, a = {args.a:g}, rho = 3")
         ax.legend()
+        for key in ("N1", "N2"):
+            bx.errorbar(rates, [r[2][key][0] for r in results], yerr=[r[2][key][1] for r in results],
+                        marker="o", capsize=3, label=key)
+        bx.axhline(0, color="grey", lw=0.5)
+        bx.set_xscale("log")
+        bx.set_xlabel("shear rate")
+        bx.set_ylabel("normal stress difference")
+        bx.legend()
+        what = "polymer melt (10-bead chains)" if args.config == "melt.toml" else "simple fluid"
+        fig.suptitle(f"Lees-Edwards shear, {what}, a = {args.a:g}, rho = 3")
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)
         print(f"\nwrote {args.plot}")

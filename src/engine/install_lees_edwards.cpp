@@ -181,20 +181,32 @@ StressSample measure_stress(const StepContext& ctx, int f, int g) {
   const double* v[3] = {p.vx.data(), p.vy.data(), p.vz.data()};
   const double rate = box.shear.current_rate, mid = 0.5 * box.length(g);
   // In 128-bit fixed point (2^40 units), so the sums are the same on any rank count and storage order:
-  // m u_f v_g, m u_f^2, m v_g^2, m v_w^2 with u_f = v_f - rate (x_g - L_g/2).
-  Int128 k[4] = {0, 0, 0, 0};
+  // m u_f v_g, m u_f^2, m v_g^2, m v_w^2, m, m u_f, m v_g, m v_w with u_f = v_f - rate (x_g - L_g/2). The
+  // products are then taken about the mean velocities: a uniform drift is no stress. (The sum of m u_f is
+  // a constant of the motion: pair forces cancel, a crossing of the gradient faces leaves u_f unchanged,
+  // and d/dt sum m u_f = -rate sum m v_g = 0; it is zero from the initial profile, not from every data
+  // file.)
+  Int128 k[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  auto fixed = [](double x) { return static_cast<Int128>(x * kKineticScale); };
   for (std::size_t i = 0; i < p.n_local; ++i) {
     if (p.body[i] != 0) continue;
     const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
     const double uf = v[f][i] - rate * (r[g][i] - mid), vg = v[g][i], vw = v[w][i];
-    k[0] += static_cast<Int128>(m * uf * vg * kKineticScale);
-    k[1] += static_cast<Int128>(m * uf * uf * kKineticScale);
-    k[2] += static_cast<Int128>(m * vg * vg * kKineticScale);
-    k[3] += static_cast<Int128>(m * vw * vw * kKineticScale);
+    k[0] += fixed(m * uf * vg);
+    k[1] += fixed(m * uf * uf);
+    k[2] += fixed(m * vg * vg);
+    k[3] += fixed(m * vw * vw);
+    k[4] += fixed(m);
+    k[5] += fixed(m * uf);
+    k[6] += fixed(m * vg);
+    k[7] += fixed(m * vw);
   }
-  if (ctx.comm.distributed()) ctx.comm.sum(std::span<Int128>(k, 4));
-  double kin[4];
-  for (int c = 0; c < 4; ++c) kin[c] = static_cast<double>(k[c]) / kKineticScale;
+  if (ctx.comm.distributed()) ctx.comm.sum(std::span<Int128>(k, 8));
+  double q[8];
+  for (int c = 0; c < 8; ++c) q[c] = static_cast<double>(k[c]) / kKineticScale;
+  const double mass = q[4] > 0 ? q[4] : 1.0;
+  const double kin[4] = {q[0] - q[5] * q[6] / mass, q[1] - q[5] * q[5] / mass, q[2] - q[6] * q[6] / mass,
+                         q[3] - q[7] * q[7] / mass};
   const auto off = static_cast<std::size_t>(f == 0 ? (g == 1 ? 3 : 4) : 5);  // PairSums::virial: xx yy zz xy xz yz
   const double vol = box.volume();
   const double* vir = ctx.pair_sums ? ctx.pair_sums->virial.data() : nullptr;

@@ -285,20 +285,110 @@ TEST(LeesEdwards, StandardFluidHasALinearProfileAndTheReversePoiseuilleViscosity
   std::printf("standard fluid: eta = %.4f +- %.4f against reverse Poiseuille 0.8593 +- 0.0047\n", eta, err);
   EXPECT_NEAR(eta / 0.8593, 1.0, 0.05);
   EXPECT_LT(err, 0.05);
+  // The normal stress differences of a simple fluid are second order in the rate (N1 = -0.108 +- 0.006
+  // at rate 0.8, docs/validation.md section 11): below 3 errors of this run at 0.25.
+  double e1 = 0, e2 = 0;
+  const double n1 = summary_value(dir / "shear_summary.csv", "N1", &e1), n2 = summary_value(dir / "shear_summary.csv", "N2", &e2);
+  std::printf("N1 = %.4f +- %.4f, N2 = %.4f +- %.4f\n", n1, e1, n2, e2);
+  EXPECT_LT(std::abs(n1), 3 * e1);
+  EXPECT_LT(std::abs(n2), 3 * e2);
+  EXPECT_GT(e1, 0.0);
+}
+
+// Lees-Edwards with Lowe-Andersen (the pair sweep takes the whole flow row across the sheared faces and
+// the image velocity in the pairs' relative velocity): the profile stays the imposed line, the
+// temperature across the flow stays at kT within 3%, the momentum across the flow is conserved, and the
+// fluid has a viscosity (the sweep is its only friction: eta > 0.3).
+TEST(LeesEdwards, LoweAndersenThermostatKeepsTheShearedFluidAtKT) {
+  const fs::path dir = fresh_dir("lowe_andersen");
+  const std::string text =
+      fmt::format(R"(
+[system]
+box = [8.0, 8.0, 8.0]
+kT = 1.0
+seed = 77
+
+[[species]]
+name = "A"
+density = 3.0
+
+[pair]
+a = 25.0
+gamma = 0.0
+
+[integrator]
+dt = 0.04
+
+[thermostat]
+type = "lowe-andersen"
+rate = 4.5
+
+[lees_edwards]
+shear_rate = 0.25
+stress_every = 5
+equilibrate = 250
+
+[run]
+steps = 3250
+
+[output]
+thermo_every = 50
+progress = false
+)");
+  Simulation sim(parse_config(text, "la.toml"), RunOptions{.out_dir = dir, .steps = {}, .restart = {}});
+  auto momentum = [&] {
+    std::array<double, 3> m{0, 0, 0};
+    const ParticleData& p = sim.particles();
+    for (std::size_t i = 0; i < p.n_local; ++i) m[0] += p.vx[i], m[1] += p.vy[i], m[2] += p.vz[i];
+    return m;
+  };
+  const auto m0 = momentum();
+  std::vector<double> mean(8, 0.0);
+  int samples = 0;
+  while (sim.current_step() < 3250) {
+    sim.step();
+    if (sim.current_step() > 1000 && sim.current_step() % 10 == 0) {
+      const std::vector<double> v = flow_profile(sim.particles(), sim.box(), 8);
+      for (int b = 0; b < 8; ++b) mean[static_cast<std::size_t>(b)] += v[static_cast<std::size_t>(b)];
+      ++samples;
+    }
+  }
+  const auto m1 = momentum();
+  const std::string summary = sim.finish();
+  std::printf("%s", summary.c_str());
+  for (double& v : mean) v /= samples;
+  // The slope of the mean profile from its two halves (bins 1-3 against 4-6).
+  const double slope = ((mean[4] + mean[5] + mean[6]) - (mean[1] + mean[2] + mean[3])) / 3.0 / 3.0;
+  std::printf("Lowe-Andersen under shear: profile slope %.4f (imposed 0.25), momentum change %.3g %.3g %.3g\n", slope,
+              m1[0] - m0[0], m1[1] - m0[1], m1[2] - m0[2]);
+  EXPECT_NEAR(slope / 0.25, 1.0, 0.05);
+  // The images exchange flow momentum with the box (each crossing of the gradient faces adds +-dU); the
+  // other two components are conserved.
+  for (int d = 1; d < 3; ++d) EXPECT_LT(std::abs(m1[static_cast<std::size_t>(d)] - m0[static_cast<std::size_t>(d)]), 1e-8);
+  const std::size_t at = summary.find("mean temperature ");
+  ASSERT_NE(at, std::string::npos);
+  const double kt = std::stod(summary.substr(at + 17));
+  EXPECT_NEAR(kt, 1.0, 0.03);
+  EXPECT_NE(summary.find("(across the flow)"), std::string::npos);
+  double err = 0;
+  const double eta = summary_value(dir / "shear_summary.csv", "eta", &err);
+  std::printf("eta = %.4f +- %.4f\n", eta, err);
+  EXPECT_GT(eta, 0.3);
 }
 
 // Oscillatory shear of the ideal gas (with the homogeneous-shear force, so the whole box follows the
-// strain): its dissipative stress follows the strain rate at once, so the pair stress has the loss
-// modulus eta_D omega and no storage modulus (within 3 errors). The test's error on G'' is 3%; it
-// asserts 8% (the long run of examples/shear resolves it better, docs/validation.md section 11). The kinetic stress relaxes
-// at a finite rate and so has a storage part: printed, not asserted.
+// strain) at a low frequency, omega = 2 pi / 20 (omega tau = 0.13 for the kinetic relaxation time
+// tau = 0.42): its dissipative stress follows the strain rate, so the pair stress has the loss modulus
+// eta_D omega (within 6%, 2.5 of this run's errors) and no storage modulus (within 3 errors). The long
+// runs of docs/validation.md section 11 give 1.003 +- 0.012 of eta_D omega here and show the pair
+// stress lagging at omega = 1.26 (G'' 3-7% low, G' > 0): not asserted.
 TEST(LeesEdwards, OscillatoryShearOfTheIdealGasIsViscousInItsPairStress) {
   const fs::path dir = fresh_dir("oscillatory");
-  const double omega = 2 * std::numbers::pi / 5.0;  // period 5 time units; 12 periods
-  Simulation sim(parse_config(sheared_fluid(fmt::format("strain_amplitude = 0.9\nomega = {:.17g}\nstress_every = 2", omega),
+  const double omega = 2 * std::numbers::pi / 20.0;  // period 20 time units; 6 periods
+  Simulation sim(parse_config(sheared_fluid(fmt::format("strain_amplitude = 3.6\nomega = {:.17g}\nstress_every = 2", omega),
                                             8.0, 0.0, 0.01),
                               "o.toml"),
-                 RunOptions{.out_dir = dir, .steps = 6000, .restart = {}});
+                 RunOptions{.out_dir = dir, .steps = 12000, .restart = {}});
   std::printf("%s", sim.run().c_str());
   double e1 = 0, e2 = 0;
   const fs::path csv = dir / "shear_summary.csv";
@@ -308,9 +398,9 @@ TEST(LeesEdwards, OscillatoryShearOfTheIdealGasIsViscousInItsPairStress) {
               "G'' = %.4f\n",
               omega, g_loss, e2, theory, g_storage, e1, summary_value(csv, "G_storage_kinetic"),
               summary_value(csv, "G_loss_kinetic"));
-  EXPECT_NEAR(g_loss / theory, 1.0, 0.08);
+  EXPECT_NEAR(g_loss / theory, 1.0, 0.06);
   EXPECT_LT(std::abs(g_storage), 3 * e1);
-  EXPECT_LT(e2 / theory, 0.04);
+  EXPECT_LT(e2 / theory, 0.03);
 }
 
 // Reproducibility: the sheared run (Verlet list, so the skin's offset drift is exercised, and cell
@@ -364,4 +454,43 @@ TEST(LeesEdwards, BadInputIsRefusedNamingTheKey) {
       test::plate_channel_config("", "", "", "\n[lees_edwards]\ngradient = \"z\"\nshear_rate = 0.1\n");
   EXPECT_NE(test::config_error_of(channel).find("system.periodic"), std::string::npos);
   EXPECT_EQ(error("shear_rate = 0.1"), "no error");
+}
+
+// A polymer melt (10-bead harmonic chains, examples/shear/melt.toml) thins under shear and has a first
+// normal stress difference: eta at rate 0.4 (Weissenberg number above 1) lies more than 2 combined
+// errors below eta at rate 0.1, N1 > 0 by more than 10 errors at rate 0.4, and N2 is small beside N1
+// (|N2| < N1 / 10). The long runs are in docs/validation.md section 11.
+TEST(LeesEdwards, PolymerMeltShearThinsWithAPositiveFirstNormalStressDifference) {
+  const std::string melt = test::read_file(fs::path(MESODPD_SOURCE_DIR) / "examples/shear/melt.toml");
+  ASSERT_FALSE(melt.empty());
+  struct Point {
+    double eta, eta_err, n1, n1_err, n2;
+  };
+  auto run = [&](double rate, double dt, std::uint64_t steps, const char* name) {
+    std::string text = melt;
+    auto set = [&](const std::string& key, const std::string& value) {
+      const std::size_t at = text.find("\n" + key + " = ");
+      ASSERT_NE(at, std::string::npos) << key;
+      const std::size_t end = text.find('\n', at + 1);
+      text.replace(at + 1, end - at - 1, key + " = " + value);
+    };
+    set("shear_rate", fmt::format("{}", rate));
+    set("dt", fmt::format("{}", dt));
+    set("equilibrate", fmt::format("{}", static_cast<int>(20 / dt)));
+    const fs::path dir = fresh_dir(name);
+    Simulation sim(parse_config(text, "melt.toml"), RunOptions{.out_dir = dir, .steps = steps, .restart = {}});
+    std::printf("%s", sim.run().c_str());
+    Point p{};
+    const fs::path csv = dir / "shear_summary.csv";
+    p.eta = summary_value(csv, "eta", &p.eta_err);
+    p.n1 = summary_value(csv, "N1", &p.n1_err);
+    p.n2 = summary_value(csv, "N2");
+    return p;
+  };
+  const Point slow = run(0.1, 0.04, 5500, "melt_slow"), fast = run(0.4, 0.025, 8800, "melt_fast");
+  std::printf("melt: eta(0.1) = %.3f +- %.3f, eta(0.4) = %.3f +- %.3f; N1(0.4) = %.3f +- %.3f, N2(0.4) = %.3f\n", slow.eta,
+              slow.eta_err, fast.eta, fast.eta_err, fast.n1, fast.n1_err, fast.n2);
+  EXPECT_LT(fast.eta, slow.eta - 2 * std::hypot(slow.eta_err, fast.eta_err));
+  EXPECT_GT(fast.n1, 10 * fast.n1_err);
+  EXPECT_LT(std::abs(fast.n2), fast.n1 / 10);
 }
