@@ -235,6 +235,20 @@ void install_tdpd(Installation& in) {
                                    return (*amounts)[static_cast<std::size_t>(k)];
                                  }});
   if (t.negative == NegativeConcentration::Count) {
+    // The count and its first event travel in checkpoints (the same on every rank: the totals are reduced).
+    in.sections.push_back({"tdpd_negatives",
+                           [s](ByteWriter& w) {
+                             w.put<std::uint64_t>(s->negatives);
+                             w.put<std::uint64_t>(s->first_step);
+                             w.put<std::uint32_t>(s->first_id);
+                             w.put<std::int32_t>(s->first_solute);
+                           },
+                           [s](ByteReader& r, const std::string&) {
+                             s->negatives = r.get<std::uint64_t>();
+                             s->first_step = r.get<std::uint64_t>();
+                             s->first_id = r.get<std::uint32_t>();
+                             s->first_solute = r.get<std::int32_t>();
+                           }});
     in.thermo_columns.push_back({"conc_negative", [s](const StepContext&) { return static_cast<double>(s->negatives); }});
     in.summaries.push_back([s](const StepContext&) -> std::string {
       if (s->negatives == 0) return "tdpd: no concentration became negative\n";

@@ -288,6 +288,20 @@ TEST(Tdpd, ANegativeConcentrationIsReportedNotClipped) {
   bool any_negative = false;
   for (double c : conc_of(go_on.particles(), 1)) any_negative = any_negative || c < 0;
   EXPECT_TRUE(any_negative);  // kept as it is, not set to 0
+  // The count continues across a restart: 3 + 2 steps through a checkpoint report what 5 steps did.
+  const std::string straight = go_on.finish();
+  EXPECT_NE(straight.find("particle-steps had a negative concentration"), std::string::npos) << straight;
+  const auto file = std::filesystem::temp_directory_path() / "mesodpd_test_tdpd_negatives.mdpd";
+  {
+    Simulation first(parse_config(counting, "n.toml"), RunOptions{});
+    for (int k = 0; k < 3; ++k) first.step();
+    first.write_checkpoint(file);
+  }
+  RunOptions o;
+  o.restart = file;
+  Simulation second(parse_config(counting, "n.toml"), o);
+  for (int k = 0; k < 2; ++k) second.step();
+  EXPECT_EQ(second.finish(), straight);
 }
 
 // Bad input: one error naming the key.
