@@ -96,6 +96,7 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
   std::vector<int> whole_row(static_cast<std::size_t>(dims_[static_cast<std::size_t>(fa)]));
   for (std::size_t k = 0; k < whole_row.size(); ++k) whole_row[k] = static_cast<int>(k);
   std::uint64_t pairs = 0;
+  std::array<double, 6> virial{};
   for (std::size_t k = 0; k < p.n_local; ++k) {
     const std::uint32_t i = order_[k];
     const int c = static_cast<int>(cell_of_[i]);
@@ -159,6 +160,13 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
       ++pairs;
       if (u_new == u) continue;
       const double impulse = mu * (u_new - u);  // +impulse e on i, -impulse e on j
+      const double fr = impulse / (dt * r);     // the impulse as a force over the step, per unit r
+      virial[0] += dx * dx * fr;
+      virial[1] += dy * dy * fr;
+      virial[2] += dz * dz * fr;
+      virial[3] += dx * dy * fr;
+      virial[4] += dx * dz * fr;
+      virial[5] += dy * dz * fr;
       const double di = impulse / mi, dj = impulse / mj;
       p.vx[i] += di * ex;
       p.vy[i] += di * ey;
@@ -169,6 +177,7 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
     }
   }
   last_pairs_ = pairs;
+  last_virial_ = virial;
 }
 
 }  // namespace mesodpd

@@ -51,6 +51,11 @@ class PairThermostat {
   const PairThermostatParams& params() const { return params_; }
   // Pairs closer than rc in the last sweep (for tests and the cost notes).
   std::uint64_t last_pairs() const { return last_pairs_; }
+  // The virial of the last sweep's impulses as forces over the step, sum over pairs of r_ij (x) P e_ij /
+  // dt: xx, yy, zz, xy, xz, yz (the order of PairSums::virial). The sweep's friction and noise carry
+  // momentum between pairs, so a stress that leaves it out misses the thermostat's share of the
+  // viscosity (all of it at high Lowe-Andersen rates).
+  const std::array<double, 6>& last_virial() const { return last_virial_; }
 
  private:
   // Sorts the particles into cells of at least rc, by (cell, id): order_ (the sweep order), cell_start_.
@@ -60,6 +65,7 @@ class PairThermostat {
   std::array<int, 3> dims_{1, 1, 1};
   std::vector<std::uint32_t> cell_of_, cell_start_, order_, partners_;
   std::uint64_t last_pairs_ = 0;
+  std::array<double, 6> last_virial_{};
 };
 
 }  // namespace mesodpd

@@ -297,9 +297,15 @@ TEST(LeesEdwards, StandardFluidHasALinearProfileAndTheReversePoiseuilleViscosity
 }
 
 // Lees-Edwards with Lowe-Andersen (the pair sweep takes the whole flow row across the sheared faces and
-// the image velocity in the pairs' relative velocity): the profile stays the imposed line, the
-// temperature across the flow stays at kT within 3%, the momentum across the flow is conserved, and the
-// fluid has a viscosity (the sweep is its only friction: eta > 0.3).
+// the image velocity in the pairs' relative velocity) in the ideal gas (a = 0): the profile stays the
+// imposed line, the temperature across the flow stays at kT within 3%, the momentum across the flow is
+// conserved, and the stress carried by the sweep's impulses (PairThermostat::last_virial; without it
+// the pair stress of this gas would be zero) is the collisional viscosity. A collision at rate Gamma
+// acts on average like a dissipative force with gamma w_D = Gamma mu inside r_c, which with affine pair
+// velocities gives eta_c = 2 pi Gamma mu rho^2 / 75 = 1.696; measured 0.80 of it here and 0.76 at rate
+// 1 (docs/validation.md section 11; we have no derivation of the shortfall). Asserted: the impulses
+// carry more than 3 times the kinetic stress, and 0.6-1.1 of eta_c. (Shardlow's sweep gives Groot and
+// Warren's eta_D the same way: 0.988 +- 0.030, so the virial itself is right.)
 TEST(LeesEdwards, LoweAndersenThermostatKeepsTheShearedFluidAtKT) {
   const fs::path dir = fresh_dir("lowe_andersen");
   const std::string text =
@@ -314,7 +320,7 @@ name = "A"
 density = 3.0
 
 [pair]
-a = 25.0
+a = 0.0
 gamma = 0.0
 
 [integrator]
@@ -372,9 +378,13 @@ progress = false
   EXPECT_NEAR(kt, 1.0, 0.03);
   EXPECT_NE(summary.find("(across the flow)"), std::string::npos);
   double err = 0;
-  const double eta = summary_value(dir / "shear_summary.csv", "eta", &err);
-  std::printf("eta = %.4f +- %.4f\n", eta, err);
-  EXPECT_GT(eta, 0.3);
+  const double eta = summary_value(dir / "shear_summary.csv", "eta_pairs", &err);
+  const double theory = 2 * std::numbers::pi * 4.5 * 0.5 * 9.0 / 75.0;
+  std::printf("eta (pairs: the sweep's impulses) = %.4f +- %.4f, collisional theory %.4f (ratio %.4f)\n", eta, err, theory,
+              eta / theory);
+  EXPECT_GT(eta / theory, 0.6);
+  EXPECT_LT(eta / theory, 1.1);
+  EXPECT_GT(eta, 3 * summary_value(dir / "shear_summary.csv", "eta_kinetic"));
 }
 
 // Oscillatory shear of the ideal gas (with the homogeneous-shear force, so the whole box follows the
