@@ -128,6 +128,10 @@ void check_lees_edwards(const LeesEdwardsSpec& s, const SimulationSpec& spec) {
     throw SpecError("lees_edwards.shear_rate", "0", "must not be zero (an unsheared box is a plain periodic one)");
   if (spec.poiseuille.enabled)
     throw SpecError("poiseuille", "", "a reverse-Poiseuille flow and a Lees-Edwards shear cannot share the box");
+  if (spec.bond_subcycles > 1)
+    throw SpecError("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
+                    "is not supported with Lees-Edwards shear (the inner steps would see the image offset of the "
+                    "step's start); use 1");
   if (spec.species.empty() || spec.pairs.empty()) return;  // validate() reports those
   const double rc = max_cutoff(make_pair_laws(spec));
   const double u = s.max_image_velocity(spec);

@@ -464,6 +464,7 @@ TEST(LeesEdwards, BadInputIsRefusedNamingTheKey) {
             std::string::npos);
   EXPECT_NE(error("shear_rate = 0.1", "", 3.5).find("system.box"), std::string::npos);  // 3 cells along x
   EXPECT_NE(error("shear_rate = 0.1", "[poiseuille]\nforce = 0.02\n").find("poiseuille"), std::string::npos);
+  EXPECT_NE(error("shear_rate = 0.1", "[bonds]\nsubcycles = 2\n").find("bonds.subcycles"), std::string::npos);
   // Walls close the gradient axis z of a plate channel.
   const std::string channel =
       test::plate_channel_config("", "", "", "\n[lees_edwards]\ngradient = \"z\"\nshear_rate = 0.1\n");
