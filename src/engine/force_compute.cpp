@@ -401,9 +401,9 @@ struct BatchGeometry {
   int n_scalars = 0;
   const double* const* scalar = nullptr;
   // Lees-Edwards images (Box::shear): per image count n along the gradient axis, j's image is shifted
-  // by n shift[] and moves n dv[] faster (both zero except along the flow axis). gradient < 0: none.
+  // by n offset and moves n velocity faster along the flow axis. gradient < 0: none.
   int gradient = -1, flow = -1;
-  double shift[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+  double offset = 0, velocity = 0;
 };
 
 // The BatchGeometry of a box and particles: minimum image on periodic axes, the plain difference on
@@ -417,8 +417,8 @@ inline BatchGeometry batch_geometry(const ParticleData& p, const Box& box, const
   if (box.sheared()) {
     g.gradient = box.shear.gradient;
     g.flow = box.shear.flow;
-    g.shift[box.shear.flow] = box.shear.offset;
-    g.dv[box.shear.flow] = box.shear.velocity;
+    g.offset = box.shear.offset;
+    g.velocity = box.shear.velocity;
   }
   return g;
 }
@@ -527,7 +527,7 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
     const auto sheared = [&](auto flow_axis, auto gradient_axis) {
       constexpr int F = decltype(flow_axis)::value, G = decltype(gradient_axis)::value;
       const double hg = G == 1 ? hly : hlz;
-      const double off = g.shift[F], du = g.dv[F];
+      const double off = g.offset, du = g.velocity;
       for (std::size_t k = 0; k < m; ++k) {
         const double rx = b.ix[k] - b.jx[k], ry = b.iy[k] - b.jy[k], rz = b.iz[k] - b.jz[k];
         const double rg = G == 1 ? ry : rz;
