@@ -30,7 +30,7 @@ enum class DumpFormat { Lammps, Gsd };
 // Liu's spline potentials (physics/spline_pair.hpp). A law added to the list takes the next index.
 enum class PairStyle : int { Dpd, Soft, Mdpd, Spline };
 // The local-density kernel of many-body DPD (physics/density_kernel.hpp): Warren's or Lucy's.
-enum class DensityKernelChoice { Warren, Lucy };
+enum class DensityKernelChoice { Warren, Lucy, Wendland };
 enum class VelocityInit { Maxwell, File, Zero };
 
 // One solid shape as a signed distance (negative inside the solid), src/boundary/geometry.hpp; also the
@@ -95,7 +95,7 @@ struct PairOverride {
 // The [pair] table: defaults for every pair, the mixing rule for a_ij and the per-pair overrides.
 struct PairSection {
   Mixing mixing = Mixing::Explicit;
-  std::optional<DensityKernelChoice> kernel;  // [pair] kernel (mdpd only; default "warren")
+  std::optional<DensityKernelChoice> kernel;  // [pair] kernel (laws with a density pass; default: the law's)
   PairParams params;
   std::vector<PairOverride> overrides;  // [[pair.override]]
 };

@@ -48,9 +48,10 @@ MESODPD_HD double u01_open(std::uint32_t w) { return (static_cast<double>(w) + 0
 // Streams separate independent uses of one seed (pair noise, initial velocities, placement, ...).
 // PairThermostat: the pair draws of [thermostat] (integrate/pair_thermostat.hpp).
 // ScalarNoise, ScalarNoise2: the antisymmetric noises of a law's scalars 1-2 and 3 (pair_noise_with_scalars).
+// PairMatrix, PairMatrix2, PairMatrix3: the symmetric noise words of a non-central law (pair_noise_words).
 enum class RngStream : std::uint32_t {
   PairNoise = 1, InitVelocity = 2, InitPosition = 3, WallReflection = 4, InitMolecule = 5, PairThermostat = 6,
-  ScalarNoise = 7, ScalarNoise2 = 8
+  ScalarNoise = 7, ScalarNoise2 = 8, PairMatrix = 9, PairMatrix2 = 10, PairMatrix3 = 11
 };
 
 // Symmetric pair noise: one draw per unordered pair (i, j) per step. The key holds the seed;
@@ -111,6 +112,20 @@ MESODPD_HD void pair_noise_with_scalars(std::uint64_t seed, std::uint64_t step, 
   if (n > 3) {
     const Philox4x32 q = pair_random_bits(seed, step, id_a, id_b, RngStream::ScalarNoise2);
     xs[3] = sign * unit_noise(kind, q.v[0], q.v[1]);
+  }
+}
+
+// n <= 6 symmetric unit-variance noises, out(a, b) = out(b, a), for a law that draws noise words of its
+// own (physics/pair_force.hpp, kNoiseWords: smoothed DPD's Wiener matrix): words 2k and 2k + 1 from one
+// draw of stream PairMatrix + k (words 0-1, then 2-3 of the draw; a uniform variate reads the first of
+// its pair).
+MESODPD_HD void pair_noise_words(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a, std::uint32_t id_b,
+                                 NoiseKind kind, double* out, int n) {
+  for (int k = 0; 2 * k < n; ++k) {
+    const auto stream = static_cast<RngStream>(static_cast<std::uint32_t>(RngStream::PairMatrix) + static_cast<std::uint32_t>(k));
+    const Philox4x32 q = pair_random_bits(seed, step, id_a, id_b, stream);
+    out[2 * k] = unit_noise(kind, q.v[0], q.v[1]);
+    if (2 * k + 1 < n) out[2 * k + 1] = unit_noise(kind, q.v[2], q.v[3]);
   }
 }
 

@@ -51,12 +51,21 @@ __global__ void pair_law_kernel(const typename Law::template Params<Real>* param
       in.sj[c] = static_cast<Real>(rho[2 * kScalars * k + kScalars + c]);
     }
   }
+  if constexpr (law_non_central<Law>) {
+    in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
+    for (int c = 0; c < 3; ++c) in.dv[c] = static_cast<Real>(vij[3 * k + c]);
+  }
+  if constexpr (law_noise_words<Law> > 0) {
+    double xm[kMaxNoiseWords] = {};
+    pair_noise_words(seed, step, ids[2 * k], ids[2 * k + 1], NoiseKind::Uniform, xm, law_noise_words<Law>);
+    for (int c = 0; c < law_noise_words<Law>; ++c) in.xm[c] = static_cast<Real>(xm[c]);
+  }
   const PairForceT<Real> f = Eval{}(params[k], in);
   for (int c = 0; c < kScalars; ++c) {
     force_out[3 * n + 2 * kScalars * k + c] = to_fixed(static_cast<double>(f.qi[c]), kForceScale);
     force_out[3 * n + 2 * kScalars * k + kScalars + c] = to_fixed(static_cast<double>(f.qj[c]), kForceScale);
   }
-  const PairForceVector fv = pair_force_vector(f, inv_r, dx, dy, dz);
+  const PairForceVector fv = pair_force_vector<law_non_central<Law>>(f, inv_r, dx, dy, dz);
   const PairForceFixed q = to_fixed(fv);
   force_out[3 * k] = q.x;
   force_out[3 * k + 1] = q.y;
@@ -103,6 +112,8 @@ void instantiate_all() {
   (void)&density_kernel_kernel<LucyDensityKernel, double>;
   (void)&density_kernel_kernel<WarrenDensityKernel, float>;
   (void)&density_kernel_kernel<LucyDensityKernel, float>;
+  (void)&density_kernel_kernel<WendlandDensityKernel, double>;
+  (void)&density_kernel_kernel<WendlandDensityKernel, float>;
   (void)&bonded_kernel;
 }
 

@@ -146,12 +146,14 @@ static_assert(PairBatch::kCapacity % 16 == 0, "to_fixed_array rounds batch lengt
 #if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
 #define MESODPD_VECTOR_NOISE 1
 // Word 0 of the draw goes to `w0` (antisymmetric, with the sign of id_a < id_b, if `w0_antisymmetric`),
-// word 2 to `w2` (antisymmetric; not computed where null): for pair_noise's xi (stream PairNoise, word 0)
-// and the uniform noises of pair_noise_with_scalars, the same bits.
+// word 2 to `w2` (antisymmetric unless `w2_symmetric`; not computed where null): for pair_noise's xi
+// (stream PairNoise, word 0), the uniform noises of pair_noise_with_scalars and those of
+// pair_noise_words (both symmetric), the same bits.
 template <class Real>
 HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
                                     Real* HWY_RESTRICT w0, bool w0_antisymmetric, Real* HWY_RESTRICT w2, std::size_t m,
-                                    std::uint64_t seed, std::uint64_t step, RngStream stream) {
+                                    std::uint64_t seed, std::uint64_t step, RngStream stream,
+                                    bool w2_symmetric = false) {
   const hn::ScalableTag<std::uint64_t> d64;
   const hn::Rebind<std::uint32_t, decltype(d64)> d32;      // one id per 64-bit lane
   const hn::Repartition<std::uint32_t, decltype(d64)> dw;  // a 64-bit vector seen as 32-bit words
@@ -202,7 +204,7 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
     store(w0_antisymmetric ? hn::IfThenElse(flip, hn::Neg(x0), x0) : x0, w0);
     if (w2) {
       const auto x2 = unit(c2);
-      store(hn::IfThenElse(flip, hn::Neg(x2), x2), w2);
+      store(w2_symmetric ? x2 : hn::IfThenElse(flip, hn::Neg(x2), x2), w2);
     }
   }
 }
@@ -275,6 +277,8 @@ struct ForcePass {
   static constexpr bool kVelocity = Law::kVelocity;
   static constexpr bool kNoise = Law::kNoise;
   static constexpr bool kDirection = true;
+  static constexpr bool kNonCentral = law_non_central<Law>;
+  static constexpr int kNoiseWords = law_noise_words<Law>;
   using Params = typename Law::template Params<PairReal>;
 
   Eval eval;
@@ -304,12 +308,21 @@ struct ForcePass {
         in.sj[c] = static_cast<PairReal>(b.sj[c][k]);
         in.xs[c] = b.xs[c][k];
       }
+      if constexpr (kNonCentral) {
+        in.d[0] = b.dx[k];
+        in.d[1] = b.dy[k];
+        in.d[2] = b.dz[k];
+        in.dv[0] = b.dvx[k];
+        in.dv[1] = b.dvy[k];
+        in.dv[2] = b.dvz[k];
+      }
+      for (int c = 0; c < kNoiseWords; ++c) in.xm[c] = b.xm[c][k];
       const PairForceT<PairReal> f = eval(pp, in);
       for (int c = 0; c < kScalars; ++c) {
         b.hi[c][k] = f.qi[c];
         b.hj[c][k] = f.qj[c];
       }
-      const PairForceVector fv = pair_force_vector(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
+      const PairForceVector fv = pair_force_vector<kNonCentral>(f, b.inv_r[k], b.dx[k], b.dy[k], b.dz[k]);
       if constexpr (!kSums) {
         // Converted below, a vector at a time; this loop then has no int64 conversion, which AVX2
         // lacks and which would keep the compiler from vectorising the law.
@@ -365,6 +378,8 @@ struct DensityPass {
   static constexpr bool kVelocity = false;
   static constexpr bool kNoise = false;
   static constexpr bool kDirection = false;
+  static constexpr bool kNonCentral = false;
+  static constexpr int kNoiseWords = 0;
   using Params = DensityParamsT<PairReal>;
 
   Kernel kernel;
@@ -475,7 +490,7 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
       b.jvy[k] = vy[j];
       b.jvz[k] = vz[j];
     }
-    if constexpr (Pass::kNoise) b.jid[k] = id[j];
+    if constexpr (Pass::kNoise || Pass::kNoiseWords > 0) b.jid[k] = id[j];
   }
   // The scalars of j; a channel the run does not hold is zero for the law (and its noise too).
   for (int c = 0; c < Pass::kScalars; ++c) {
@@ -508,6 +523,11 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
       if constexpr (Pass::kVelocity)
         b.rv[k] = (dx * static_cast<PairReal>(dvx) + dy * static_cast<PairReal>(dvy) + dz * static_cast<PairReal>(dvz)) *
                   inv_r;
+      if constexpr (Pass::kNonCentral) {
+        b.dvx[k] = static_cast<PairReal>(dvx);
+        b.dvy[k] = static_cast<PairReal>(dvy);
+        b.dvz[k] = static_cast<PairReal>(dvz);
+      }
     }
     (void)dvx, (void)dvy, (void)dvz;
   };
@@ -581,6 +601,25 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
     } else {
       for (std::size_t k = 0; k < m; ++k)
         b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Gaussian));
+    }
+  }
+  // The symmetric noise words of a law that draws its own (pair_noise_words, the same bits).
+  if constexpr (Pass::kNoiseWords > 0) {
+    constexpr int nw = Pass::kNoiseWords;
+#if MESODPD_VECTOR_NOISE
+    if (kind == NoiseKind::Uniform) {
+      for (int w = 0; w < nw; w += 2)
+        uniform_noise_array(b.iid, b.jid, b.xm[w], false, w + 1 < nw ? b.xm[w + 1] : static_cast<PairReal*>(nullptr), m,
+                            seed, step,
+                            static_cast<RngStream>(static_cast<std::uint32_t>(RngStream::PairMatrix) +
+                                                   static_cast<std::uint32_t>(w / 2)),
+                            true);
+    } else
+#endif
+    for (std::size_t k = 0; k < m; ++k) {
+      double xm[kMaxNoiseWords];
+      pair_noise_words(seed, step, b.iid[k], b.jid[k], kind, xm, nw);
+      for (int w = 0; w < nw; ++w) b.xm[w][k] = static_cast<PairReal>(xm[w]);
     }
   }
   // Pass 3: the law or kernel and the fixed-point conversion.
@@ -1146,10 +1185,7 @@ void run_pair_job(PairJob& job) {
     pass.ids = job.p->id.data();
     run_pass(job, pass, ds.table.max_cutoff);
   };
-  switch (ds.kernel) {
-    case DensityKernelKind::Warren: return run(WarrenDensityKernel{});
-    case DensityKernelKind::Lucy: return run(LucyDensityKernel{});
-  }
+  with_density_kernel(ds.kernel, run);
 }
 
 // The target this copy was compiled for (hwy's bit for it).

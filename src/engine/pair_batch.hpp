@@ -42,6 +42,10 @@ struct PairBatch {
   alignas(64) PairReal inv_r[kCapacity];
   alignas(64) PairReal rv[kCapacity];
   alignas(64) PairReal xi[kCapacity];
+  // Non-central laws (kNonCentral): the velocity difference v_ij as a vector; laws with noise words
+  // (kNoiseWords): their symmetric noises.
+  alignas(64) PairReal dvx[kCapacity], dvy[kCapacity], dvz[kCapacity];
+  alignas(64) PairReal xm[kMaxNoiseWords][kCapacity];
   alignas(64) std::int64_t qx[kCapacity];
   alignas(64) std::int64_t qy[kCapacity];
   alignas(64) std::int64_t qz[kCapacity];

@@ -15,12 +15,14 @@ struct PairForceVector {
   double x = 0, y = 0, z = 0;
 };
 
-// F_ij = (fc + fd + fr) / r * d for the displacement d = r_i - r_j of length r (inv_r = 1/r, 0 at r = 0).
-// The scale and its products with d are taken in the pair arithmetic type Real and only then widened,
-// as the single-precision build has always done; in double this is plain double arithmetic.
-template <class Real>
+// F_ij = (fc + fd + fr) / r * d for the displacement d = r_i - r_j of length r (inv_r = 1/r, 0 at r = 0),
+// plus the non-central part fn of a law with kNonCentral. The scale and its products with d are taken
+// in the pair arithmetic type Real and only then widened, as the single-precision build has always
+// done; in double this is plain double arithmetic.
+template <bool kNonCentral = false, class Real>
 MESODPD_HD PairForceVector pair_force_vector(const PairForceT<Real>& f, Real inv_r, Real dx, Real dy, Real dz) {
   const Real scale = (f.fc + f.fd + f.fr) * inv_r;
+  if constexpr (kNonCentral) return {scale * dx + f.fn[0], scale * dy + f.fn[1], scale * dz + f.fn[2]};
   return {scale * dx, scale * dy, scale * dz};
 }
 

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include <fmt/format.h>
+
 namespace mesodpd {
 
 namespace {
@@ -57,10 +59,15 @@ void add_infos(std::vector<PairLawInfo>& out) {
       info.scalar_rates.assign(Law::kScalarRates.begin(), Law::kScalarRates.end());
     }
     info.min_a = Law::kMinA;
-    info.noise = Law::kNoise;
+    info.noise = Law::kNoise || law_noise_words<Law> > 0;  // has a random force
     info.density = Law::kDensity;
     info.range = &Law::range;
     info.problem = &Law::problem;
+    info.warning = &law_warning<Law>;
+    info.default_kernel = law_default_kernel<Law>;
+    info.density_range = &law_density_range<Law>;
+    constexpr auto kernels = law_kernels<Law>();
+    info.kernels.assign(kernels.begin(), kernels.end());
     out.push_back(std::move(info));
     add_infos<I + 1>(out);
   }
@@ -108,9 +115,26 @@ PairValues values_of(const PairSpec& ps, PairStyle style, double kT) {
 }
 }  // namespace
 
+DensityKernelKind density_kernel_of(const SimulationSpec& spec) {
+  if (!spec.pair_section.kernel) return pair_law(spec.pair_style).default_kernel;
+  switch (*spec.pair_section.kernel) {
+    case DensityKernelChoice::Lucy: return DensityKernelKind::Lucy;
+    case DensityKernelChoice::Wendland: return DensityKernelKind::Wendland;
+    case DensityKernelChoice::Warren: break;
+  }
+  return DensityKernelKind::Warren;
+}
+
 PairValues pair_values(const PairSpec& ps, const SimulationSpec& spec, int species_i, int species_j) {
   PairValues v = values_of(ps, spec.pair_style, spec.kT);
   const PairLawInfo& law = pair_law(spec.pair_style);
+  v.kernel = density_kernel_of(spec);
+  v.dt = spec.dt;
+  double mobile = 0;
+  for (const SpeciesSpec& sp : spec.species)
+    if (!sp.frozen) mobile += static_cast<double>(sp.count);
+  const double volume = spec.box[0] * spec.box[1] * spec.box[2];
+  v.number_density = volume > 0 ? mobile / volume : 0.0;
   const auto n = static_cast<int>(spec.species.size());
   const int a = species_i >= 0 ? species_i : ps.i, b = species_j >= 0 ? species_j : ps.j;
   if (a < n && b < n) {
@@ -192,10 +216,18 @@ std::vector<keys::KeyDoc> pair_key_docs() {
         rows.push_back(own_row(k));
       }
   const std::string density = styles_where([](const PairLawInfo& law) { return law.density; });
-  rows.push_back({"kernel", "string", "`\"warren\"`", "`\"warren\"`, `\"lucy\"`",
-                  density + " only: the local-density kernel, Warren's 15/(2 pi r_d^3)(1 - r/r_d)^2 or Lucy's 105/(16 pi "
-                            "r_d^3)(1 + 3r/r_d)(1 - r/r_d)^3 (LAMMPS `mdpd/rhosum`). One kernel for all pairs, each "
-                            "pair with its own r_d."});
+  std::string kernel_default;
+  for (const PairLawInfo& law : pair_law_infos())
+    if (law.density)
+      kernel_default += fmt::format("{}`\"{}\"` ({})", kernel_default.empty() ? "" : ", ",
+                                    law.default_kernel == DensityKernelKind::Lucy       ? "lucy"
+                                    : law.default_kernel == DensityKernelKind::Wendland ? "wendland"
+                                                                                        : "warren",
+                                    law.style);
+  rows.push_back({"kernel", "string", kernel_default, "`\"warren\"`, `\"lucy\"`, `\"wendland\"`",
+                  density + " only: the local-density kernel, Warren's 15/(2 pi r_d^3)(1 - r/r_d)^2, Lucy's 105/(16 pi "
+                            "r_d^3)(1 + 3r/r_d)(1 - r/r_d)^3 (LAMMPS `mdpd/rhosum`) or Wendland's C2 21/(2 pi r_d^3)(1 - "
+                            "r/r_d)^4(1 + 4r/r_d). One kernel for all pairs, each pair with its own range (`mdpd`: r_d)."});
   rows.push_back({"mixing", "string", "`\"explicit\"`", "`\"explicit\"`, `\"geometric\"`",
                   "How a_ij is formed: `explicit` uses `pair.a` for every pair; `geometric` uses a_ij = sqrt(a_i a_j) "
                   "from `species[].a` (seed 002 Eq. 4). With `explicit`, `species[].a` is refused."});
@@ -232,14 +264,13 @@ PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec) {
 }
 
 std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec) {
-  if (spec.pair_style != PairStyle::Mdpd) return std::nullopt;
+  const PairLawInfo& law = pair_law(spec.pair_style);
+  if (!law.density) return std::nullopt;
   DensitySettings ds;
-  ds.kernel = spec.pair_section.kernel.value_or(DensityKernelChoice::Warren) == DensityKernelChoice::Lucy
-                  ? DensityKernelKind::Lucy
-                  : DensityKernelKind::Warren;
+  ds.kernel = density_kernel_of(spec);
+  const auto range = [&](const PairSpec& ps) { return law.density_range(pair_values(ps, spec)); };
   ds.table = fill_table<DensityParamsT<double>>(
-      spec, [](const PairSpec& ps) { return DensityParamsT<double>{ps.rd, ps.rd * ps.rd}; },
-      [](const PairSpec& ps) { return ps.rd; });
+      spec, [&](const PairSpec& ps) { const double r = range(ps); return DensityParamsT<double>{r, r * r}; }, range);
   return ds;
 }
 

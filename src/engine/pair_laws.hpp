@@ -87,6 +87,10 @@ struct PairLawInfo {
   std::vector<std::string_view> scalar_fields, scalar_rates;  // their particle fields (kScalarFields, kScalarRates)
   double (*range)(const PairValues&) = nullptr;
   LawProblem (*problem)(const PairValues&) = nullptr;
+  LawProblem (*warning)(const PairValues&) = nullptr;  // law_warning
+  DensityKernelKind default_kernel = DensityKernelKind::Warren;  // law_default_kernel (kDensity)
+  double (*density_range)(const PairValues&) = nullptr;          // law_density_range (kDensity)
+  std::vector<DensityKernelKind> kernels;                        // law_kernels (kDensity)
 };
 // The laws of PairLawTables in order (index = PairStyle).
 const std::vector<PairLawInfo>& pair_law_infos();
@@ -115,9 +119,11 @@ struct DensitySettings {
 
 // The law and parameter table of a validated spec (sigma from the fluctuation-dissipation relation).
 PairLawTables make_pair_laws(const SimulationSpec& spec);
-// The density pass a spec's law needs before its force pass (many-body DPD: the kernel of pair.kernel
-// over each pair's r_d), or nothing.
+// The density pass a spec's law needs before its force pass (a law with kDensity: the kernel of
+// pair.kernel, or the law's default, over each pair's density range; many-body DPD: r_d), or nothing.
 std::optional<DensitySettings> make_density_settings(const SimulationSpec& spec);
+// The density kernel a spec's run uses (pair.kernel, else its law's default).
+DensityKernelKind density_kernel_of(const SimulationSpec& spec);
 // The DPD table of a spec (the conservative part also serves the g(r) pressure integral).
 PairTable<DpdPairParams> make_pair_table(const SimulationSpec& spec);
 

@@ -172,12 +172,18 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
             } else {
               in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
             }
+            if constexpr (law_non_central<Law>) {
+              in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
+              for (int c = 0; c < 3; ++c) in.dv[c] = dv[c];
+            }
+            if constexpr (law_noise_words<Law> > 0)
+              pair_noise_words(noise.seed, step, p.id[i], p.id[j], noise.kind, in.xm, law_noise_words<Law>);
             const PairForceT<double> pf = eval(pp, in);
             for (int c = 0; c < ns; ++c) {
               qh[i][c] += to_fixed(pf.qi[c], kForceScale);
               qh[j][c] += to_fixed(pf.qj[c], kForceScale);
             }
-            const PairForceVector fv = pair_force_vector(pf, inv_r, dx, dy, dz);
+            const PairForceVector fv = pair_force_vector<law_non_central<Law>>(pf, inv_r, dx, dy, dz);
             const PairForceFixed fq = to_fixed(fv);
             q[i][0] += fq.x;
             q[i][1] += fq.y;
@@ -288,10 +294,7 @@ void reference_density(const ParticleData& p, const Box& box, const DensitySetti
       q[j] += v;
     });
   };
-  switch (density.kernel) {
-    case DensityKernelKind::Warren: run(WarrenDensityKernel{}); break;
-    case DensityKernelKind::Lucy: run(LucyDensityKernel{}); break;
-  }
+  with_density_kernel(density.kernel, run);
   rho.assign(p.n_local, 0.0);
   for (std::size_t i = 0; i < p.n_local; ++i) rho[i] = static_cast<double>(q[i]) * kForceUnscale;
 }

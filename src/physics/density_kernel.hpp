@@ -6,7 +6,7 @@
 
 namespace mesodpd {
 
-enum class DensityKernelKind { Warren, Lucy };
+enum class DensityKernelKind { Warren, Lucy, Wendland };
 
 template <class Real>
 struct DensityParamsT {
@@ -41,5 +41,30 @@ struct LucyDensityKernel {
     return kNorm / (p.rd * p.rd * p.rd) * (Real(1) + Real(3) * q) * om * om * om;
   }
 };
+
+// Wendland's C2 kernel in three dimensions, w_rho = 21 / (2 pi r_d^3) (1 - r/r_d)^4 (1 + 4 r/r_d)
+// (Wendland, Adv. Comput. Math. 4, 389 (1995)): smooth to the second derivative, the usual choice of
+// smoothed DPD and SPH codes that want no pairing instability.
+struct WendlandDensityKernel {
+  template <class Real>
+  MESODPD_HD Real operator()(const DensityParamsT<Real>& p, Real r) const {
+    constexpr Real kNorm = Real(21.0 / (2.0 * 3.14159265358979323846));
+    const Real q = r / p.rd;
+    const Real om = r < p.rd ? Real(1) - q : Real(0);
+    const Real om2 = om * om;
+    return kNorm / (p.rd * p.rd * p.rd) * (Real(1) + Real(4) * q) * om2 * om2;
+  }
+};
+
+// Calls f with the kernel functor of `kind`.
+template <class F>
+decltype(auto) with_density_kernel(DensityKernelKind kind, F&& f) {
+  switch (kind) {
+    case DensityKernelKind::Lucy: return f(LucyDensityKernel{});
+    case DensityKernelKind::Wendland: return f(WendlandDensityKernel{});
+    case DensityKernelKind::Warren: break;
+  }
+  return f(WarrenDensityKernel{});
+}
 
 }  // namespace mesodpd

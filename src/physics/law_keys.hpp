@@ -10,6 +10,8 @@
 #include <limits>
 #include <string_view>
 
+#include "physics/density_kernel.hpp"
+
 namespace mesodpd {
 
 // One parameter key of a law, as written in [pair] or a [[pair.override]] (or, for a species key, in a
@@ -41,7 +43,40 @@ struct PairValues {
   bool frozen_i = false, frozen_j = false;  // wall particles (never integrated: infinite mass)
   static constexpr std::size_t kMaxSpeciesOwn = 8;
   std::array<double, kMaxSpeciesOwn> species_i{}, species_j{};
+  // Laws with a density pass (kDensity): the run's density kernel (pair.kernel, or the law's default).
+  DensityKernelKind kernel = DensityKernelKind::Warren;
+  // The run's time step (integrator.dt) and the number density of its mobile particles (0 where not
+  // known: a spec not yet validated), for a law's checks of its stability limits and neighbour count.
+  double dt = 0;
+  double number_density = 0;
 };
+
+// The density pass of a law with kDensity: its kernel when pair.kernel is not given (kDefaultKernel;
+// Warren's where the law does not say) and each pair's kernel range (density_range(v); v.rd, the
+// many-body range, where the law does not say).
+template <class Law>
+inline constexpr DensityKernelKind law_default_kernel = [] {
+  if constexpr (requires { Law::kDefaultKernel; })
+    return Law::kDefaultKernel;
+  else
+    return DensityKernelKind::Warren;
+}();
+// The kernels a law with kDensity accepts (kKernels; every kernel where it does not say).
+template <class Law>
+constexpr auto law_kernels() {
+  if constexpr (requires { Law::kKernels; })
+    return Law::kKernels;
+  else
+    return std::array<DensityKernelKind, 3>{DensityKernelKind::Warren, DensityKernelKind::Lucy,
+                                            DensityKernelKind::Wendland};
+}
+template <class Law>
+double law_density_range(const PairValues& v) {
+  if constexpr (requires { Law::density_range(v); })
+    return Law::density_range(v);
+  else
+    return v.rd;
+}
 
 // The species keys of a law (kSpeciesOwn: per-species values such as eDPD's heat capacity, written in
 // [[species]] blocks); none where the law declares none.
@@ -60,5 +95,15 @@ struct LawProblem {
   const char* why = nullptr;  // nullptr: no problem
   double other = 0;           // a value the message quotes
 };
+
+// A law's warning about one resolved pair (Law::warning; none where the law has no such hook), in the
+// form of a LawProblem: the run goes on, `mesodpd run` and `mesodpd check` print it.
+template <class Law>
+LawProblem law_warning(const PairValues& v) {
+  if constexpr (requires { Law::warning(v); })
+    return Law::warning(v);
+  else
+    return {};
+}
 
 }  // namespace mesodpd

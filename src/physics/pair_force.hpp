@@ -9,6 +9,10 @@ namespace mesodpd {
 // concentrations.
 inline constexpr int kMaxScalars = 4;
 
+// The most symmetric noise words a non-central law may draw per pair (kNoiseWords): smoothed DPD's
+// symmetric Wiener matrix (physics/sdpd_pair.hpp) takes six.
+inline constexpr int kMaxNoiseWords = 6;
+
 // The pair geometry and state a law may read, for the pair (i, j) with r_ij = r_i - r_j. The pair
 // loop fills only what the law asks for through its traits (kVelocity, kNoise, kDensity, kScalars);
 // the other members are left zero.
@@ -26,6 +30,12 @@ struct PairInput {
   Real si[kMaxScalars] = {};
   Real sj[kMaxScalars] = {};
   Real xs[kMaxScalars] = {};
+  // Non-central laws (kNonCentral): the pair's displacement r_ij and velocity difference v_ij as vectors
+  // (r = |d|; with Lees-Edwards images, v_ij includes the image velocity), and kNoiseWords symmetric
+  // unit-variance noises xm_ij = xm_ji of their own (core/philox.hpp, pair_noise_words).
+  Real d[3] = {};
+  Real dv[3] = {};
+  Real xm[kMaxNoiseWords] = {};
 };
 
 // The force on i due to j as magnitudes along r_hat_ij, kept in parts because the virial, the
@@ -40,6 +50,10 @@ struct PairForceT {
   // opposite in general: viscous heating warms both particles).
   Real qi[kMaxScalars] = {};
   Real qj[kMaxScalars] = {};
+  // Non-central laws (kNonCentral): the part of the force on i that is not along r_hat_ij, as a vector
+  // added to the central parts (smoothed DPD's shear friction -a_ij v_ij and its matrix noise). The force
+  // on j is still the opposite, so momentum is conserved; angular momentum is not, in general.
+  Real fn[3] = {};
 };
 
 // How many per-particle scalars a law transports (kScalars; 0 where it does not say). Such a law also
@@ -49,6 +63,24 @@ template <class Law>
 inline constexpr int law_scalars = [] {
   if constexpr (requires { Law::kScalars; })
     return Law::kScalars;
+  else
+    return 0;
+}();
+
+// Whether a law reads the pair's vectors and returns a non-central part (kNonCentral; false where it
+// does not say), and how many symmetric noise words it draws per pair (kNoiseWords; 0 where it does not
+// say).
+template <class Law>
+inline constexpr bool law_non_central = [] {
+  if constexpr (requires { Law::kNonCentral; })
+    return Law::kNonCentral;
+  else
+    return false;
+}();
+template <class Law>
+inline constexpr int law_noise_words = [] {
+  if constexpr (requires { Law::kNoiseWords; })
+    return Law::kNoiseWords;
   else
     return 0;
 }();

@@ -140,7 +140,8 @@ void read_pair(const Section& top, SimulationSpec& spec) {
   spec.pair_style = static_cast<PairStyle>(pair.choice_of("style", styles).value_or(0));
   PairSection& sec = spec.pair_section;
   sec.kernel = pair.choice<DensityKernelChoice>("kernel", {{"warren", DensityKernelChoice::Warren},
-                                                           {"lucy", DensityKernelChoice::Lucy}});
+                                                           {"lucy", DensityKernelChoice::Lucy},
+                                                           {"wendland", DensityKernelChoice::Wendland}});
   sec.mixing = pair.choice<Mixing>("mixing", {{"explicit", Mixing::Explicit}, {"geometric", Mixing::Geometric}})
                    .value_or(Mixing::Explicit);
   sec.params = read_pair_params(pair);

@@ -232,6 +232,11 @@ void validate_pair_params(const std::string& prefix, const PairParams& p, PairSt
            fmt::format("not used with pair.style = \"{}\" (only with pair.style = {})", law.style, users(name)));
 }
 
+// pair.kernel as written.
+const char* kernel_name(DensityKernelChoice k) {
+  return k == DensityKernelChoice::Warren ? "\"warren\"" : k == DensityKernelChoice::Lucy ? "\"lucy\"" : "\"wendland\"";
+}
+
 // Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
 void validate_pairs(SimulationSpec& spec) {
   const PairSection& sec = spec.pair_section;
@@ -240,12 +245,25 @@ void validate_pairs(SimulationSpec& spec) {
     std::string with;
     for (const PairLawInfo& law : pair_law_infos())
       if (law.density) with += fmt::format("{}pair.style = \"{}\"", with.empty() ? "" : " or ", law.style);
-    fail("pair.kernel", *sec.kernel == DensityKernelChoice::Warren ? "\"warren\"" : "\"lucy\"",
-         fmt::format("only used with {} (the local-density kernel of many-body DPD)", with));
+    fail("pair.kernel", kernel_name(*sec.kernel), fmt::format("only used with {} (the laws with a local-density pass)", with));
+  }
+  if (const PairLawInfo& law = pair_law(spec.pair_style); sec.kernel && law.density) {
+    const DensityKernelKind kind = density_kernel_of(spec);
+    if (std::find(law.kernels.begin(), law.kernels.end(), kind) == law.kernels.end())
+      fail("pair.kernel", kernel_name(*sec.kernel),
+           fmt::format("not for pair.style = \"{}\"{}", law.style,
+                       kind == DensityKernelKind::Warren
+                           ? ": the gradient of Warren's kernel does not vanish at r = 0, so the pair force "
+                             "F(r) = -W'(r)/r diverges; use \"lucy\" or \"wendland\""
+                           : ""));
   }
   if (spec.pair_style == PairStyle::Mdpd && sec.mixing == Mixing::Geometric)
     fail("pair.mixing", "\"geometric\"",
          "not available with pair.style = \"mdpd\" (A_ij is usually negative); set pair.a and [[pair.override]]");
+  if (const PairLawInfo& law = pair_law(spec.pair_style);
+      sec.mixing == Mixing::Geometric && std::find(law.shared.begin(), law.shared.end(), "a") == law.shared.end())
+    fail("pair.mixing", "\"geometric\"",
+         fmt::format("not used with pair.style = \"{}\" (the law has no a_ij to mix)", law.style));
   if (sec.mixing == Mixing::Geometric && sec.params.a)
     fail("pair.a", show(*sec.params.a), "not used with pair.mixing = \"geometric\" (a_ij = sqrt(a_i a_j) from species[].a)");
 
@@ -427,8 +445,8 @@ void validate_analysis(SimulationSpec& spec) {
     if (!spec.periodic[static_cast<std::size_t>(t.axis)])
       fail("analysis.stress_profile.axis", std::string(1, "xyz"[t.axis]),
            "the stress profile needs a periodic axis (the box is bounded along it)");
-    if (spec.pair_style == PairStyle::Mdpd && spec.bond_exclusion != BondExclusion::None)
-      fail("analysis.stress_profile", "bonds.exclude with pair.style = \"mdpd\"",
+    if (pair_law(spec.pair_style).density && spec.bond_exclusion != BondExclusion::None)
+      fail("analysis.stress_profile", fmt::format("bonds.exclude with pair.style = \"{}\"", pair_law(spec.pair_style).style),
            "the virial of excluded pairs is not removed for density-dependent forces yet");
   }
 }
@@ -1011,6 +1029,20 @@ std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
         break;
       }
     }
+  }
+  // The law's own warnings (law_warning), once per distinct message.
+  const PairLawInfo& law = pair_law(spec.pair_style);
+  for (const PairSpec& p : spec.pairs) {
+    const LawProblem w = law.warning(pair_values(p, spec));
+    if (!w.why) continue;
+    std::string why = w.why;
+    const std::string pair_names = fmt::format("species pair ({}, {})", spec.species[static_cast<std::size_t>(p.i)].name,
+                                               spec.species[static_cast<std::size_t>(p.j)].name);
+    for (const auto& [token, text] : {std::pair<std::string_view, std::string>{"{value}", show(w.other)},
+                                      std::pair<std::string_view, std::string>{"{pair}", pair_names}})
+      if (const auto at = why.find(token); at != std::string::npos) why.replace(at, token.size(), text);
+    out.push_back(fmt::format("pair.{}: {}", w.key, why));
+    break;
   }
   return out;
 }
