@@ -119,6 +119,8 @@ std::string format_flow_numbers(const FlowNumbers& f) {
   if (!std::isnan(f.flow_speed))
     out += fmt::format("  driven flow: peak speed {}, length {}, Reynolds {}, Mach {}\n", num(f.flow_speed),
                        num(f.length), num(f.reynolds), num(f.mach));
+  else if (std::isnan(f.viscosity))
+    out += "  no Reynolds or Mach number here (no viscosity estimate; a model's own numbers follow)\n";
   else
     out += "  no driven flow (Reynolds and Mach numbers need [poiseuille])\n";
   out += fmt::format("  thermostat: friction rate {}, time step limit {}\n", num(f.friction_rate),
