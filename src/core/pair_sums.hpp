@@ -7,7 +7,9 @@
 namespace mesodpd {
 
 struct PairSums {
-  // Virial tensor sum over pairs of r_ij (x) F_ij: xx, yy, zz, xy, xz, yz (seed 000 Eq. 11).
+  // Virial tensor sum over pairs of r_ij (x) F_ij: xx, yy, zz, xy, xz, yz (seed 000 Eq. 11). The
+  // off-diagonal ab (a < b) is the flux of a-momentum through b-planes, sum d_b F_a, which for central
+  // forces equals sum d_a F_b (engine/pair_contribution.hpp, add_pair_sums).
   std::array<double, 6> virial{};
   double virial_conservative = 0.0;  // trace of the conservative-only virial
   double potential_energy = 0.0;

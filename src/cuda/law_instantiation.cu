@@ -70,7 +70,7 @@ __global__ void pair_law_kernel(const typename Law::template Params<Real>* param
   force_out[3 * k] = q.x;
   force_out[3 * k + 1] = q.y;
   force_out[3 * k + 2] = q.z;
-  add_pair_sums(sums + 9 * k, f, fv, r, dx, dy, dz, params[k].rcut2);
+  add_pair_sums<law_non_central<Law>>(sums + 9 * k, f, fv, r, dx, dy, dz, params[k].rcut2);
 }
 
 template <class Kernel, class Real>

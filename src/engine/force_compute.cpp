@@ -340,7 +340,7 @@ struct ForcePass {
         // The pair's terms, then their sums with a check (thermo steps only): a term at the clamp or a
         // total past the int64 range would be a wrong pressure or energy without a word.
         std::int64_t terms[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        add_pair_sums(terms, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
+        add_pair_sums<kNonCentral>(terms, f, fv, b.r[k], b.dx[k], b.dy[k], b.dz[k], pp.rcut2);
         bool bad = false;
         for (int c = 0; c < 9; ++c) {
           bad |= terms[c] >= kPairSumLimit || terms[c] <= -kPairSumLimit;

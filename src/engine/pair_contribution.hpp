@@ -38,16 +38,26 @@ MESODPD_HD PairForceFixed to_fixed(const PairForceVector& f) {
 // Adds one pair's share of the thermodynamic sums to `sums` ([0..5] virial d (x) F: xx, yy, zz, xy,
 // xz, yz; [6] the conservative virial fc r; [7] the pair energy; [8] 1 when r^2 < rcut2), each term
 // converted to fixed point on its own, so the totals do not depend on the order of the pairs
-// (engine/fixed_point.hpp, core/pair_sums.hpp).
-template <class Real>
+// (engine/fixed_point.hpp, core/pair_sums.hpp). The off-diagonal ab (a < b) is the flux of
+// a-momentum through planes normal to b, d_b F_a: the shear stress of flow along a with its gradient
+// along b (Lees-Edwards, whose flow axis is the lower). A central force has d_a F_b = d_b F_a and keeps
+// the product d_a F_b it has always been summed as; a non-central law's tensor is not symmetric and
+// takes d_b F_a.
+template <bool kNonCentral = false, class Real>
 MESODPD_HD void add_pair_sums(std::int64_t* sums, const PairForceT<Real>& f, const PairForceVector& fv, Real r,
                               Real dx, Real dy, Real dz, Real rcut2) {
   sums[0] += to_fixed(dx * fv.x, kVirialScale);
   sums[1] += to_fixed(dy * fv.y, kVirialScale);
   sums[2] += to_fixed(dz * fv.z, kVirialScale);
-  sums[3] += to_fixed(dx * fv.y, kVirialScale);
-  sums[4] += to_fixed(dx * fv.z, kVirialScale);
-  sums[5] += to_fixed(dy * fv.z, kVirialScale);
+  if constexpr (kNonCentral) {
+    sums[3] += to_fixed(dy * fv.x, kVirialScale);
+    sums[4] += to_fixed(dz * fv.x, kVirialScale);
+    sums[5] += to_fixed(dz * fv.y, kVirialScale);
+  } else {
+    sums[3] += to_fixed(dx * fv.y, kVirialScale);
+    sums[4] += to_fixed(dx * fv.z, kVirialScale);
+    sums[5] += to_fixed(dy * fv.z, kVirialScale);
+  }
   sums[6] += to_fixed(f.fc * r, kVirialScale);
   sums[7] += to_fixed(f.energy, kVirialScale);
   sums[8] += r * r < rcut2 ? 1 : 0;

@@ -191,7 +191,7 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
             q[j][0] -= fq.x;
             q[j][1] -= fq.y;
             q[j][2] -= fq.z;
-            add_pair_sums(total, pf, fv, r, dx, dy, dz, pp.rcut2);
+            add_pair_sums<law_non_central<Law>>(total, pf, fv, r, dx, dy, dz, pp.rcut2);
           });
         });
       },
