@@ -15,6 +15,7 @@
 #include <string>
 
 #include "engine/force_compute.hpp"
+#include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/validate.hpp"
 #include "parallel/comm.hpp"
@@ -86,6 +87,25 @@ mesodpd::SimulationSpec mdpd_slab(std::uint64_t n, bool verlet, double skin, con
   return s;
 }
 
+// The smoothed-DPD fluid of examples/sdpd_fluid (number density 3, eta = 1, c = 8, kT = 0.1,
+// dt = 0.01) over the kernel cutoff rc (1.5: 42 neighbours); with `as_dpd`, the standard DPD fluid
+// (a = 25, gamma = 4.5) with the same cutoff for both forces, so the same N and neighbour count.
+mesodpd::SimulationSpec sdpd(std::uint64_t n, double rc, bool verlet, double skin, bool as_dpd) {
+  mesodpd::SimulationSpec s = fluid(n, skin, verlet);
+  s.dt = 0.01;
+  s.pair_section.params.rc = rc;
+  if (!as_dpd) {
+    s.kT = 0.1;
+    const auto& laws = mesodpd::pair_law_infos();
+    for (std::size_t k = 0; k < laws.size(); ++k)
+      if (laws[k].style == "sdpd") s.pair_style = static_cast<mesodpd::PairStyle>(k);
+    s.pair_section.params.own = {{"eta", 1.0}, {"c", 8.0}, {"rho0", 3.0}};
+  }
+  s.pairs.clear();
+  mesodpd::validate(s);
+  return s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -106,8 +126,12 @@ int main(int argc, char** argv) {
   app.add_option("--warmup", warmup, "untimed steps first (equilibrates the random start)");
   app.add_option("--skin", skin, "Verlet skin");
   app.add_option("--method", method, "verlet | cells")->check(CLI::IsMember({"verlet", "cells"}));
-  app.add_option("--system", system, "fluid (rho = 3 DPD) | mdpd-slab (Warren's liquid slab, density 6)")
-      ->check(CLI::IsMember({"fluid", "mdpd-slab"}));
+  double sdpd_rc = 1.5;
+  app.add_option("--sdpd-rc", sdpd_rc, "kernel cutoff of --system sdpd and dpd-rc (1.5: 42 neighbours)");
+  app.add_option("--system", system,
+                 "fluid (rho = 3 DPD) | mdpd-slab (Warren's liquid slab, density 6) | sdpd (smoothed DPD, rho = 3) | "
+                 "dpd-rc (DPD with the cutoff --sdpd-rc)")
+      ->check(CLI::IsMember({"fluid", "mdpd-slab", "sdpd", "dpd-rc"}));
   app.add_flag("--per-rank", per_rank, "--n is per MPI rank (weak scaling) instead of in total");
   try {
     app.parse(argc, argv);
@@ -133,6 +157,10 @@ int main(int argc, char** argv) {
     if (system == "fluid")
       print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
             method == "verlet" ? skin : 0.0);
+    else if (system == "sdpd" || system == "dpd-rc")
+      print("# {} rho=3 rc={} ({:.0f} neighbours) dt=0.01{}, {}, method={} skin={}\n", system, sdpd_rc,
+            3.0 * 4.18879 * sdpd_rc * sdpd_rc * sdpd_rc, system == "sdpd" ? " eta=1 c=8 kT=0.1 Lucy" : " a=25 gamma=4.5",
+            kPrecision, method, method == "verlet" ? skin : 0.0);
     else
       print("# mdpd slab (liquid rho~6 in half the box) A=-40 B=25 rc=1 rd=0.75 gamma=4.5 kT=1 dt=0.01 GW lambda=0.5 "
             "Warren kernel, {}, method={} skin={}\n", kPrecision, method, method == "verlet" ? skin : 0.0);
@@ -145,8 +173,10 @@ int main(int argc, char** argv) {
         omp_set_num_threads(t);
         const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
         const auto data = std::filesystem::temp_directory_path() / fmt::format("bench_mdpd_slab_{}_r{}.data", total, comm.rank());
-        mesodpd::Simulation sim(system == "fluid" ? fluid(total, skin, method == "verlet")
-                                                  : mdpd_slab(total, method == "verlet", skin, data),
+        mesodpd::Simulation sim(system == "fluid"    ? fluid(total, skin, method == "verlet")
+                                : system == "sdpd"   ? sdpd(total, sdpd_rc, method == "verlet", skin, false)
+                                : system == "dpd-rc" ? sdpd(total, sdpd_rc, method == "verlet", skin, true)
+                                                     : mdpd_slab(total, method == "verlet", skin, data),
                                 mesodpd::RunOptions{});
         for (int k = 0; k < warmup; ++k) sim.step();
         const auto b0 = sim.neighbor_list().builds();
@@ -173,6 +203,28 @@ int main(int argc, char** argv) {
               proc_status_bytes("VmHWM:") / local, proc_status_bytes("VmRSS:") / local,
               fmt::format("{}x{}x{}", g[0], g[1], g[2]), 100.0 * comm_secs / secs, 100.0 * msg_secs / secs);
         if (comm.root()) std::fflush(stdout);
+        // A law with a density pass: the share of the density pass in the two pair passes, timed apart on
+        // a copy of the final state (one rank: no ghosts).
+        if (const auto density = mesodpd::make_density_settings(sim.spec()); density && comm.size() == 1) {
+          mesodpd::ParticleData p = sim.particles();
+          mesodpd::ForceCompute fc(mesodpd::make_pair_laws(sim.spec()), mesodpd::NoiseSettings{7, mesodpd::NoiseKind::Uniform});
+          std::vector<double> rho(p.size());
+          mesodpd::PairSums sums;
+          const int reps = 50;
+          auto timed = [&](auto&& f) {
+            const auto a = std::chrono::steady_clock::now();
+            for (int k = 0; k < reps; ++k) f(k);
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+          };
+          const double td = timed([&](int) { fc.compute_density(p, sim.box(), sim.neighbor_list(), *density, rho, nullptr); });
+          const double tf = timed([&](int k) {
+            fc.compute(p, sim.box(), sim.neighbor_list(), static_cast<std::uint64_t>(k), sim.spec().dt, false, sums, nullptr,
+                       rho.data());
+          });
+          print("#   density pass {:.3g} ms, force pass {:.3g} ms: the density pass is {:.1f}% of the pair passes, "
+                "{:.1f}% of the step\n",
+                1e3 * td / reps, 1e3 * tf / reps, 100.0 * td / (td + tf), 100.0 * (td / reps) / (secs / steps));
+        }
       }
   } catch (const std::exception& e) {
     if (comm.root()) fmt::print(stderr, "bench_fluid: {}\n", e.what());
