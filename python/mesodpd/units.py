@@ -10,10 +10,19 @@
 
 All inputs are SI (kg/mol, m^3, kg/m^3, 1/Pa, Pa s, m^2/s, K). Bad or missing inputs raise ValueError
 naming the input.
+
+Smoothed DPD takes its inputs as they are (docs/units.md, "Smoothed DPD in SI"):
+
+    s = mesodpd.units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6,
+                           flow_speed=1e-3)              # water at 0.5 um, flows of 1 mm/s at Mach 0.1
+    s.pair, s.dt, s.to_si(1.0, "time")                   # the [pair] keys, a time step, tau in s
 """
+import math
+
 from . import _core
 
-__all__ = ["map", "water", "WATER_300K", "measured_alpha", "quantities", "Mapping", "INPUTS"]
+__all__ = ["map", "water", "WATER_300K", "measured_alpha", "quantities", "Mapping", "INPUTS", "sdpd",
+           "SdpdUnits"]
 
 Mapping = _core.Mapping
 
@@ -62,3 +71,85 @@ def measured_alpha(density):
 def quantities():
     """The quantity names to_si/from_si accept, with their SI units."""
     return dict(_core.unit_quantities())
+
+
+BOLTZMANN = 1.380649e-23  # J/K (exact, SI 2019)
+
+
+class SdpdUnits:
+    """Smoothed DPD in reduced units from SI inputs (sdpd()). Units: length = the particle spacing
+    (number density 1), mass = the particle mass rho dx^3, energy = k_B T (kT = 1), time
+    tau = dx sqrt(m / k_B T). Attributes: length, mass, energy, time (SI), pair (the [pair] keys of
+    pair.style = "sdpd"), density (1), kT (1), neighbours, cfl_limit, viscous_limit, dt (half the
+    smaller limit), mach (of flow_speed), and to_si / from_si for "length", "time", "mass", "velocity",
+    "viscosity", "pressure", "force", "energy"."""
+
+    _DIMENSIONS = {  # (length, mass, time) exponents
+        "length": (1, 0, 0), "time": (0, 0, 1), "mass": (0, 1, 0), "velocity": (1, 0, -1),
+        "viscosity": (-1, 1, -1), "pressure": (-1, 1, -2), "force": (1, 1, -2), "energy": (2, 1, -2),
+        "mass_density": (-3, 1, 0),
+    }
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    def _scale(self, quantity):
+        if quantity not in self._DIMENSIONS:
+            raise ValueError(f"SdpdUnits: unknown quantity '{quantity}'; quantities: {', '.join(self._DIMENSIONS)}")
+        a, b, c = self._DIMENSIONS[quantity]
+        return self.length ** a * self.mass ** b * self.time ** c
+
+    def to_si(self, value, quantity):
+        return value * self._scale(quantity)
+
+    def from_si(self, value, quantity):
+        return value / self._scale(quantity)
+
+    def toml(self):
+        """The [system], [[species]], [pair] and [integrator] lines of a config (box not included)."""
+        pair = "\n".join(f'{k} = "{v}"' if isinstance(v, str) else f"{k} = {v:.10g}" for k, v in self.pair.items())
+        return (f"[system]\nkT = 1.0\n\n[[species]]\nname = \"fluid\"\ndensity = 1.0\nmass = 1.0\n\n"
+                f"[pair]\nstyle = \"sdpd\"\n{pair}\n\n[integrator]\ndt = {self.dt:.6g}\n")
+
+
+def sdpd(mass_density, viscosity, temperature, spacing, sound_speed=None, flow_speed=None, mach=0.1,
+         bulk_viscosity=0.0, neighbours=42, kernel="wendland", eos_exponent=1.0, thermal_mach=0.1):
+    """Map a liquid in SI to pair.style = "sdpd": mass density (kg/m^3), shear and bulk viscosity
+    (Pa s), temperature (K) and the particle spacing (m). The sound speed (m/s) is SDPD's numerical
+    choice (the real one would make dt tiny): given, or the larger of flow_speed / mach and
+    sqrt(k_B T / m) / thermal_mach, so that neither the flow nor the particles' thermal motion
+    compresses the fluid much (density fluctuations ~ k_B T / (m c^2)). The kernel cutoff holds
+    `neighbours` particles. Raises ValueError naming a bad input."""
+    named = {"mass_density": mass_density, "viscosity": viscosity, "temperature": temperature,
+             "spacing": spacing, "neighbours": neighbours}
+    for key, value in named.items():
+        if value is None or not (float(value) > 0) or math.isinf(float(value)):
+            raise ValueError(f"units.sdpd: {key} = {value!r} must be a positive number")
+    if bulk_viscosity < 0:
+        raise ValueError(f"units.sdpd: bulk_viscosity = {bulk_viscosity!r} must not be negative")
+    if kernel not in ("lucy", "wendland"):
+        raise ValueError(f"units.sdpd: kernel = {kernel!r} must be \"lucy\" or \"wendland\"")
+    length = float(spacing)
+    mass = float(mass_density) * length ** 3
+    energy = BOLTZMANN * float(temperature)
+    time = length * math.sqrt(mass / energy)
+    thermal_speed = length / time  # sqrt(k_B T / m)
+    if sound_speed is None:
+        if flow_speed is None or not (flow_speed > 0) or not (mach > 0) or not (thermal_mach > 0):
+            raise ValueError("units.sdpd: give sound_speed, or flow_speed (> 0) with mach and thermal_mach (> 0)")
+        sound_speed = max(flow_speed / mach, thermal_speed / thermal_mach)
+    if not (sound_speed > 0):
+        raise ValueError(f"units.sdpd: sound_speed = {sound_speed!r} must be positive")
+    u = SdpdUnits(length=length, mass=mass, energy=energy, time=time, density=1.0, kT=1.0)
+    rc = (3.0 * neighbours / (4.0 * math.pi)) ** (1.0 / 3.0)  # n 4 pi rc^3 / 3 = neighbours at n = 1
+    eta = u.from_si(viscosity, "viscosity")
+    c = u.from_si(sound_speed, "velocity")
+    u.pair = {"kernel": kernel, "rc": rc, "eta": eta, "zeta": u.from_si(bulk_viscosity, "viscosity"), "c": c,
+              "rho0": 1.0, "eos_exponent": float(eos_exponent)}
+    u.neighbours = float(neighbours)
+    # The limits the engine checks (physics/sdpd_pair.hpp): sound 0.25 rc / c, viscous 0.125 rc^2 rho0 / eta.
+    u.cfl_limit = 0.25 * rc / c
+    u.viscous_limit = 0.125 * rc * rc / eta
+    u.dt = 0.5 * min(u.cfl_limit, u.viscous_limit)
+    u.mach = None if flow_speed is None else flow_speed / sound_speed
+    return u

@@ -105,3 +105,33 @@ def test_command_line_units_uses_the_same_mapper(mesodpd_bin):
         f"viscosity = 0.86 (DPD) = {units.water(coarse_graining=3).to_si(0.86, 'viscosity'):.6g} Pa s\n"
     bad = subprocess.run([mesodpd_bin, "units", "--nm", "0.5"], capture_output=True, text=True)
     assert bad.returncode == 2 and "coarse_graining" in bad.stderr
+
+
+def test_sdpd_water_at_half_a_micron_by_hand(tmp_path):
+    # Water at 300 K resolved at 0.5 um: the particle's mass, the time unit, eta and c in reduced units,
+    # and a config built from them that the engine accepts (its dt limits are the same formulas).
+    s = units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6, flow_speed=1e-3)
+    m = 996.5 * 0.5e-6 ** 3
+    tau = 0.5e-6 * math.sqrt(m / (KB * 300))
+    assert s.mass == pytest.approx(m, rel=1e-12)
+    assert s.time == pytest.approx(tau, rel=1e-12)
+    assert s.pair["eta"] == pytest.approx(8.5e-4 * 0.5e-6 * tau / m, rel=1e-12)
+    assert 280 < s.pair["eta"] < 310                                   # very viscous at this scale
+    # c: the larger of 10 flow speeds (1 cm/s) and 10 thermal speeds sqrt(kT/m) = 5.8 mm/s: the latter.
+    assert s.pair["c"] == pytest.approx(10.0, rel=1e-12)
+    assert s.to_si(s.pair["c"], "velocity") == pytest.approx(10 * math.sqrt(KB * 300 / m), rel=1e-12)
+    assert s.mach == pytest.approx(1e-3 / s.to_si(s.pair["c"], "velocity"))
+    fast = units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6, flow_speed=1e-2)
+    assert fast.pair["c"] == pytest.approx(0.1 * tau / 0.5e-6, rel=1e-12)  # 10 flow speeds of 1 cm/s
+    assert s.to_si(s.from_si(3e-3, "velocity"), "velocity") == pytest.approx(3e-3, rel=1e-12)
+    assert 4 * math.pi / 3 * s.pair["rc"] ** 3 == pytest.approx(42, rel=1e-12)
+    assert s.dt == pytest.approx(0.5 * min(0.25 * s.pair["rc"] / s.pair["c"], 0.125 * s.pair["rc"] ** 2 / s.pair["eta"]))
+    import mesodpd
+    text = s.toml().replace("[system]\n", "[system]\nbox = [8.0, 8.0, 8.0]\n")
+    with mesodpd.Simulation.from_string(text, out=str(tmp_path / "o"), steps=2) as sim:
+        sim.step(2)
+        assert sim.n_particles == 512
+    with pytest.raises(ValueError, match="viscosity"):
+        units.sdpd(mass_density=996.5, viscosity=-1, temperature=300, spacing=0.5e-6, flow_speed=1e-3)
+    with pytest.raises(ValueError, match="sound_speed"):
+        units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6)
