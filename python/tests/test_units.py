@@ -124,7 +124,8 @@ def test_sdpd_water_at_half_a_micron_by_hand(tmp_path):
     fast = units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6, flow_speed=1e-2)
     assert fast.pair["c"] == pytest.approx(0.1 * tau / 0.5e-6, rel=1e-12)  # 10 flow speeds of 1 cm/s
     assert s.to_si(s.from_si(3e-3, "velocity"), "velocity") == pytest.approx(3e-3, rel=1e-12)
-    assert 4 * math.pi / 3 * s.pair["rc"] ** 3 == pytest.approx(42, rel=1e-12)
+    assert 4 * math.pi / 3 * s.pair["rc"] ** 3 == pytest.approx(100, rel=1e-12)
+    assert s.pair["kernel"] == "lucy"
     assert s.dt == pytest.approx(0.5 * min(0.25 * s.pair["rc"] / s.pair["c"], 0.125 * s.pair["rc"] ** 2 / s.pair["eta"]))
     import mesodpd
     text = s.toml().replace("[system]\n", "[system]\nbox = [8.0, 8.0, 8.0]\n")
