@@ -179,12 +179,21 @@ struct SdpdLaw {
               viscous_limit(v)};
     return {};
   }
+  // eta over rho_0 c rc: below about 0.05 the pressure forces' numerical viscosity (~0.005 rho_0 c rc
+  // at 42 neighbours) adds visibly to the input (docs/validation.md §12).
+  static double viscosity_ratio(const PairValues& v) { return v.own[0] / (v.own[3] * v.own[2] * v.rc); }
   static LawProblem warning(const PairValues& v) {
     if (v.number_density > 0 && neighbours(v) < 20)
       return {"rc",
               "{pair} has about {value} neighbours inside the kernel cutoff (n 4 pi rc^3 / 3); SPH estimates of the "
               "density and the viscous terms want 20 or more (docs/physics.md, \"Smoothed DPD\")",
               neighbours(v)};
+    if (viscosity_ratio(v) < 0.05)
+      return {"eta",
+              "{pair} has eta = {value} rho0 c rc, below the 0.05 under which the measured viscosity exceeds the input "
+              "(the pressure forces add about 0.005 rho0 c rc: +20% or more here; docs/validation.md §12); raise eta "
+              "against rho0 c rc, or lower c as far as the Mach number allows",
+              viscosity_ratio(v)};
     return {};
   }
 

@@ -352,4 +352,9 @@ TEST(Sdpd, BadInputNamesTheKey) {
   const std::vector<std::string> warnings = spec_warnings(few);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("neighbours"), std::string::npos) << warnings[0];
+  // eta = 1 against rho0 c rc = 36: the numerical viscosity of the pressure forces would show.
+  const std::vector<std::string> small_eta = spec_warnings(parse_config(base, "small_eta.toml"));
+  ASSERT_EQ(small_eta.size(), 1u);
+  EXPECT_NE(small_eta[0].find("pair.eta"), std::string::npos) << small_eta[0];
+  EXPECT_TRUE(spec_warnings(parse_config(with("eta = 1.000000\n", "eta = 2.0\n"), "ok_eta.toml")).empty());
 }
