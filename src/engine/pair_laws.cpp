@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "engine/transported_scalars.hpp"
+
 namespace mesodpd {
 
 namespace {
@@ -130,11 +132,7 @@ PairValues pair_values(const PairSpec& ps, const SimulationSpec& spec, int speci
   const PairLawInfo& law = pair_law(spec.pair_style);
   v.kernel = density_kernel_of(spec);
   v.dt = spec.dt;
-  double mobile = 0;
-  for (const SpeciesSpec& sp : spec.species)
-    if (!sp.frozen) mobile += static_cast<double>(sp.count);
-  const double volume = spec.box[0] * spec.box[1] * spec.box[2];
-  v.number_density = volume > 0 ? mobile / volume : 0.0;
+  v.number_density = mobile_density(spec);
   const auto n = static_cast<int>(spec.species.size());
   const int a = species_i >= 0 ? species_i : ps.i, b = species_j >= 0 ? species_j : ps.j;
   if (a < n && b < n) {
@@ -220,10 +218,7 @@ std::vector<keys::KeyDoc> pair_key_docs() {
   for (const PairLawInfo& law : pair_law_infos())
     if (law.density)
       kernel_default += fmt::format("{}`\"{}\"` ({})", kernel_default.empty() ? "" : ", ",
-                                    law.default_kernel == DensityKernelKind::Lucy       ? "lucy"
-                                    : law.default_kernel == DensityKernelKind::Wendland ? "wendland"
-                                                                                        : "warren",
-                                    law.style);
+                                    density_kernel_name(law.default_kernel), law.style);
   rows.push_back({"kernel", "string", kernel_default, "`\"warren\"`, `\"lucy\"`, `\"wendland\"`",
                   density + " only: the local-density kernel, Warren's 15/(2 pi r_d^3)(1 - r/r_d)^2, Lucy's 105/(16 pi "
                             "r_d^3)(1 + 3r/r_d)(1 - r/r_d)^3 (LAMMPS `mdpd/rhosum`) or Wendland's C2 21/(2 pi r_d^3)(1 - "

@@ -56,6 +56,11 @@ struct WendlandDensityKernel {
   }
 };
 
+// The kernel's word in pair.kernel.
+constexpr const char* density_kernel_name(DensityKernelKind kind) {
+  return kind == DensityKernelKind::Lucy ? "lucy" : kind == DensityKernelKind::Wendland ? "wendland" : "warren";
+}
+
 // Calls f with the kernel functor of `kind`.
 template <class F>
 decltype(auto) with_density_kernel(DensityKernelKind kind, F&& f) {

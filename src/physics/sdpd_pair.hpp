@@ -98,6 +98,7 @@ struct SdpdLaw {
   static constexpr std::array<std::string_view, 1> kShared{"rc"};
   static constexpr std::array<std::string_view, 0> kRequired{};
   static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kPi = 3.14159265358979323846;
   static constexpr std::array<LawKey, 6> kOwn{{
       {"eta", 0.0, kInf, true, true, true, 0.0, "the shear viscosity eta (say 1)",
        "the shear viscosity eta (dynamic, mass / (length time)) that the SDPD fluid has by construction."},
@@ -120,7 +121,6 @@ struct SdpdLaw {
   static double range(const PairValues& v) { return v.rc; }
   static double density_range(const PairValues& v) { return v.rc; }
   static Params<double> make(const PairValues& v) {
-    constexpr double kPi = 3.14159265358979323846;
     Params<double> p;
     p.h = v.rc;
     p.inv_h = 1.0 / v.rc;
@@ -155,7 +155,7 @@ struct SdpdLaw {
     return v.own[0] > 0 ? 0.125 * v.rc * v.rc * v.own[3] / v.own[0] : std::numeric_limits<double>::infinity();
   }
   // Neighbours inside the kernel: n 4 pi h^3 / 3.
-  static double neighbours(const PairValues& v) { return v.number_density * 4.0 * 3.14159265358979323846 / 3.0 * v.rc * v.rc * v.rc; }
+  static double neighbours(const PairValues& v) { return v.number_density * 4.0 * kPi / 3.0 * v.rc * v.rc * v.rc; }
   static LawProblem problem(const PairValues& v) {
     if (v.own[1] > 5.0 * v.own[0] / 3.0)
       return {"zeta",

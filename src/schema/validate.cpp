@@ -232,9 +232,15 @@ void validate_pair_params(const std::string& prefix, const PairParams& p, PairSt
            fmt::format("not used with pair.style = \"{}\" (only with pair.style = {})", law.style, users(name)));
 }
 
-// pair.kernel as written.
-const char* kernel_name(DensityKernelChoice k) {
-  return k == DensityKernelChoice::Warren ? "\"warren\"" : k == DensityKernelChoice::Lucy ? "\"lucy\"" : "\"wendland\"";
+// A law's message (LawProblem::why) with its {value} and {pair} filled in.
+std::string law_message(const LawProblem& problem, const std::string& pair_names) {
+  std::string why = problem.why;
+  const auto put = [&](std::string_view token, const std::string& text) {
+    if (const auto at = why.find(token); at != std::string::npos) why.replace(at, token.size(), text);
+  };
+  put("{value}", show(problem.other));
+  put("{pair}", pair_names);
+  return why;
 }
 
 // Resolves every unordered species pair: override > (geometric mixing for a | [pair]) > default.
@@ -245,12 +251,13 @@ void validate_pairs(SimulationSpec& spec) {
     std::string with;
     for (const PairLawInfo& law : pair_law_infos())
       if (law.density) with += fmt::format("{}pair.style = \"{}\"", with.empty() ? "" : " or ", law.style);
-    fail("pair.kernel", kernel_name(*sec.kernel), fmt::format("only used with {} (the laws with a local-density pass)", with));
+    fail("pair.kernel", show(std::string(density_kernel_name(density_kernel_of(spec)))),
+         fmt::format("only used with {} (the laws with a local-density pass)", with));
   }
   if (const PairLawInfo& law = pair_law(spec.pair_style); sec.kernel && law.density) {
     const DensityKernelKind kind = density_kernel_of(spec);
     if (std::find(law.kernels.begin(), law.kernels.end(), kind) == law.kernels.end())
-      fail("pair.kernel", kernel_name(*sec.kernel),
+      fail("pair.kernel", show(std::string(density_kernel_name(kind))),
            fmt::format("not for pair.style = \"{}\"{}", law.style,
                        kind == DensityKernelKind::Warren
                            ? ": the gradient of Warren's kernel does not vanish at r = 0, so the pair force "
@@ -345,13 +352,8 @@ void validate_pairs(SimulationSpec& spec) {
         const double value = !shared ? p.value(problem.key)
                              : problem.key == "a" ? p.a : problem.key == "rd" ? p.rd : problem.key == "rc" ? p.rc
                              : problem.key == "gamma" ? p.gamma : p.s;
-        std::string why = problem.why;
-        const auto put = [&](std::string_view token, const std::string& text) {
-          if (const auto at = why.find(token); at != std::string::npos) why.replace(at, token.size(), text);
-        };
-        put("{value}", show(problem.other));
-        put("{pair}", pair_names);
-        fail(fmt::format("{}.{}", in_override ? ov_key : std::string("pair"), problem.key), show(value), why);
+        fail(fmt::format("{}.{}", in_override ? ov_key : std::string("pair"), problem.key), show(value),
+             law_message(problem, pair_names));
       }
 
       // sigma is not independent: fluctuation-dissipation fixes sigma^2 = 2 gamma kT (seed 000 Eq. 7).
@@ -1030,18 +1032,14 @@ std::vector<std::string> spec_warnings(const SimulationSpec& spec) {
       }
     }
   }
-  // The law's own warnings (law_warning), once per distinct message.
+  // The law's own warning (law_warning) for the first species pair that has one.
   const PairLawInfo& law = pair_law(spec.pair_style);
   for (const PairSpec& p : spec.pairs) {
     const LawProblem w = law.warning(pair_values(p, spec));
     if (!w.why) continue;
-    std::string why = w.why;
     const std::string pair_names = fmt::format("species pair ({}, {})", spec.species[static_cast<std::size_t>(p.i)].name,
                                                spec.species[static_cast<std::size_t>(p.j)].name);
-    for (const auto& [token, text] : {std::pair<std::string_view, std::string>{"{value}", show(w.other)},
-                                      std::pair<std::string_view, std::string>{"{pair}", pair_names}})
-      if (const auto at = why.find(token); at != std::string::npos) why.replace(at, token.size(), text);
-    out.push_back(fmt::format("pair.{}: {}", w.key, why));
+    out.push_back(fmt::format("pair.{}: {}", w.key, law_message(w, pair_names)));
     break;
   }
   return out;
