@@ -45,16 +45,17 @@ class LocalParticles:
         if name in _FIELDS:
             return self._copy(name)
         if not name.startswith("_"):
-            try:  # a model's scalar: eDPD's temp, tDPD's conc1 .. conc4 and their rates
+            try:  # a model's scalar: eDPD's temp, tDPD's conc1 .. conc4, spdpd's omega_x .. and their rates
                 return self._copy(name)
             except KeyError:
                 pass
         raise AttributeError(f"LocalParticles has no attribute {name!r}; fields: {', '.join(_FIELDS)} and the "
-                             "run's scalars (temp with pair.style = 'edpd', conc1 .. with 'tdpd')")
+                             "run's scalars (temp with pair.style = 'edpd', conc1 .. with 'tdpd', omega_x .. with 'spdpd')")
 
     def set(self, name, values):
-        """Sets a model's scalar of the owned particles: ``temp`` (eDPD's internal temperature) or
-        ``conc1`` .. ``conc4`` (tDPD's concentrations), one value per owned particle in storage order
+        """Sets a model's scalar of the owned particles: ``temp`` (eDPD's internal temperature),
+        ``conc1`` .. ``conc4`` (tDPD's concentrations) or ``omega_x`` .. ``omega_z`` (single-particle DPD's
+        angular velocities), one value per owned particle in storage order
         (the order of ``id``). ValueError for a field the run does not hold, a rate, or a wrong length.
         """
         self._sim._core.set_local(name, np.asarray(values, dtype=float))
@@ -87,6 +88,11 @@ class LocalParticles:
     @property
     def position(self):
         return self._stack("x", "y", "z")
+
+    @property
+    def angular_velocity(self):
+        """(N, 3) copy of the angular velocities (pair.style = 'spdpd'; KeyError in a run without spins)."""
+        return self._stack("omega_x", "omega_y", "omega_z")
 
     @property
     def velocity(self):

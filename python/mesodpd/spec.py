@@ -143,7 +143,8 @@ class Spec:
     def resolved(self):
         """Validated values, with what validate() derives (species counts, the pair table, ...):
         a dict with source, box, periodic, kT, seed, dt, steps, thermo_every, species (name, mass,
-        count) and pairs (species, a, gamma, rc, rd, s)."""
+        count and the pair law's species keys: eDPD's cv, single-particle DPD's radius and inertia, ...)
+        and pairs (species, a, gamma, rc, rd, s)."""
         return self._validated().summary()
 
     def numbers(self):

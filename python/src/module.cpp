@@ -318,6 +318,7 @@ py::dict spec_summary(const SimulationSpec& s) {
     e["name"] = sp.name;
     e["mass"] = sp.mass;
     e["count"] = sp.count;
+    for (const auto& [key, value] : sp.own) e[py::str(key)] = value;  // the law's species keys (cv, radius, ...)
     species.append(e);
   }
   d["species"] = species;

@@ -220,3 +220,48 @@ def test_model_scalars_are_read_and_set_as_arrays():
     after = sim.particles.conc2
     assert abs(after.sum() - total) < 1e-9 * total
     assert after[sim.particles.x >= 3.0].max() > 0.05  # it spread
+
+
+SPDPD = """
+[system]
+box = [5.0, 5.0, 5.0]
+seed = 3
+
+[[species]]
+name = "S"
+density = 3.0
+radius = 0.5
+
+[[species]]
+name = "B"
+count = 10
+mass = 2.0
+radius = 1.0
+inertia = 0.5
+
+[pair]
+style = "spdpd"
+gamma_perp = 4.5
+
+[output]
+progress = false
+"""
+
+
+def test_spins_of_single_particle_dpd_are_an_n_by_3_array():
+    sim = mesodpd.Simulation.from_string(SPDPD)
+    species = sim.spec.resolved()["species"]
+    assert species[1]["radius"] == 1.0 and species[1]["inertia"] == 0.5 and species[0]["inertia"] == 0.0
+    p = sim.particles
+    w = p.angular_velocity
+    assert w.shape == (len(p), 3) and np.array_equal(w[:, 2], p.omega_z)
+    # Drawn at kT: I <Omega_a^2> = kT (I = 2 m R^2 / 5 = 0.1 for S), within the sampling error of 375 x 3.
+    s = p.species == 0
+    assert abs(0.1 * np.mean(w[s] ** 2) - 1.0) < 0.15
+    # Setting the spins to zero: the friction across e spins them up again from the noise.
+    for name in ("omega_x", "omega_y", "omega_z"):
+        p.set(name, np.zeros(len(p)))
+    sim.step(20)
+    assert np.mean(sim.particles.angular_velocity[s] ** 2) > 1.0
+    with pytest.raises(KeyError):
+        mesodpd.Simulation.from_string(TDPD).particles.angular_velocity

@@ -79,12 +79,23 @@ inline constexpr unsigned kOptional = 1u << 6;    // held only where a model ena
   MESODPD_SOLUTE_FIELDS(X, 2)                                                                                 \
   MESODPD_SOLUTE_FIELDS(X, 3)                                                                                 \
   MESODPD_SOLUTE_FIELDS(X, 4)                                                                                 \
+  /* single-particle DPD (physics/spdpd_pair.hpp): the angular velocity Omega_i and its rate dOmega_i/dt =   \
+     T_i / I of the last force evaluation (read across steps like temp_rate) */                             \
+  MESODPD_SPIN_FIELDS(X, x)                                                                                   \
+  MESODPD_SPIN_FIELDS(X, y)                                                                                   \
+  MESODPD_SPIN_FIELDS(X, z)                                                                                   \
   MESODPD_EXTRA_PARTICLE_FIELDS(X)
 // One solute's concentration and rate (optional; the rate read across steps like temp_rate).
 #define MESODPD_SOLUTE_FIELDS(X, k)                                                                          \
   X(double, conc##k, field::kOptional | field::kMigrate | field::kGhost | field::kRefresh | field::kCheckpoint | \
                          field::kFrame)                                                                       \
   X(double, conc_rate##k, field::kOptional | field::kMigrate | field::kCheckpoint | field::kFrame | field::kForce)
+
+// One component of the angular velocity and of its rate (optional).
+#define MESODPD_SPIN_FIELDS(X, a)                                                                            \
+  X(double, omega_##a, field::kOptional | field::kMigrate | field::kGhost | field::kRefresh | field::kCheckpoint | \
+                           field::kFrame)                                                                     \
+  X(double, omega_rate_##a, field::kOptional | field::kMigrate | field::kCheckpoint | field::kFrame | field::kForce)
 
 // Name, flags and element type of one field, for code that handles fields by name (checkpoints).
 struct FieldInfo {

@@ -27,6 +27,7 @@ std::string lees_edwards_numbers(const SimulationSpec&);
 std::optional<ShearImages> lees_edwards_images(const SimulationSpec&);
 void install_sdpd(Installation& in);             // pair.style = "sdpd": refusals only (its law does the rest)
 std::string sdpd_numbers(const SimulationSpec&); // its limits and numbers for `mesodpd check`
+void install_spdpd(Installation& in);            // pair.style = "spdpd": angular velocities and their step
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -69,6 +70,7 @@ std::vector<Model> models() {
                           {"lees_edwards", install_lees_edwards, lees_edwards_section, lees_edwards_numbers,
                            lees_edwards_images},
                           {"sdpd", install_sdpd, {}, sdpd_numbers},
+                          {"spdpd", install_spdpd, {}},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},

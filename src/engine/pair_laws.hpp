@@ -18,6 +18,7 @@
 #include "physics/tdpd_pair.hpp"
 #include "physics/mdpd_pair.hpp"
 #include "physics/sdpd_pair.hpp"
+#include "physics/spdpd_pair.hpp"
 #include "physics/pair_table.hpp"
 #include "physics/soft_pair.hpp"
 #include "physics/spline_pair.hpp"
@@ -72,7 +73,8 @@ struct LawTable {
 // no enumerator in PairStyle: the index is its style.
 using PairLawTables =
     std::variant<LawTable<DpdLaw>, LawTable<SoftLaw>, LawTable<MdpdLaw>, LawTable<SplineLaw>,
-                 LawTable<EdpdLaw>, LawTable<TdpdLaw>, LawTable<SdpdLaw> MESODPD_EXTRA_PAIR_LAWS>;
+                 LawTable<EdpdLaw>, LawTable<TdpdLaw>, LawTable<SdpdLaw>,
+                 LawTable<SpdpdLaw> MESODPD_EXTRA_PAIR_LAWS>;
 inline constexpr std::size_t kPairLawCount = std::variant_size_v<PairLawTables>;
 
 // What one law of the list declares (physics/law_keys.hpp), without its type: for the schema.

@@ -359,6 +359,28 @@ TEST(Mpi, SdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
   expect_identical_on_ranks_and_restart(dir, "s.toml", {"checkpoint.mdpd", "thermo.csv"}, 150);
 }
 
+// Single-particle DPD (pair.style = "spdpd"): the spins travel with migrating particles and to the
+// ghosts, and the ghosts' torques return to their owners with the forces (6 integers per particle). Two
+// radii and masses: checkpoints (with the spins) and thermo rows (with the rotational temperature and the
+// angular momentum, summed in fixed point) byte-identical on 1, 2 and 4 ranks and 2 ranks x 2 threads,
+// and across a restart from 2 ranks on 4.
+TEST(Mpi, SpdpdRunsAreBitIdenticalOnOneTwoAndFourRanksAndAcrossARestart) {
+  const fs::path dir = fresh_dir();
+  const std::string cfg =
+      "[system]\nbox = [8.0, 8.0, 8.0]\nkT = 1.0\nseed = 707\n\n"
+      "[[species]]\nname = \"S\"\ndensity = 2.7\nradius = 0.5\n\n"
+      "[[species]]\nname = \"B\"\ndensity = 0.3\nmass = 2.0\nradius = 1.0\ninertia = 0.5\n\n"
+      "[pair]\nstyle = \"spdpd\"\na = 25.0\ngamma = 4.5\ngamma_perp = 3.0\n\n"
+      "[integrator]\ndt = 0.01\n\n[run]\nsteps = 300\n\n"
+      "[output]\nthermo_every = 50\nprogress = false\n";
+  write(dir / "p.toml", cfg);
+  expect_identical_on_ranks_and_restart(dir, "p.toml", {"checkpoint.mdpd", "thermo.csv"}, 150);
+  // The spins carry the rotational temperature (the fourth column from the end) near kT.
+  const std::vector<std::vector<double>> rows = thermo_rows(dir / "r1" / "thermo.csv");
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_NEAR(rows.back()[rows.back().size() - 4], 1.0, 0.15);
+}
+
 // Lees-Edwards shear ([lees_edwards], flow x, gradient y): the rank grid keeps x whole and splits y
 // and z, so pairs across the sheared faces meet ghosts of other ranks (the image count, offset and
 // image velocity come from the stored positions, as on one rank), particles migrate across the

@@ -122,8 +122,19 @@ SimulationSpec three_species(PairStyle style, double s) {
       ps.own["p_b"] = 0.5 * kd;
       ps.own["eos_exponent"] = 1.0;
     }
-  if (pair_law(style).style == "edpd" || pair_law(style).style == "sdpd")
+  if (pair_law(style).style == "spdpd")
+    for (std::size_t k = 0; k < spec.pairs.size(); ++k) {
+      // Single-particle DPD: a friction across e of its own per pair, one pair with its own exponent;
+      // species of different radii, masses and (one) an explicit moment of inertia (below).
+      spec.pairs[k].own["gamma_perp"] = 1.5 + 0.7 * static_cast<double>(k);
+      spec.pairs[k].own["s_perp"] = 0.0;
+    }
+  if (pair_law(style).style == "edpd" || pair_law(style).style == "sdpd" || pair_law(style).style == "spdpd")
     for (std::size_t k = 0; k < spec.species.size(); ++k) {
+      if (pair_law(style).style == "spdpd") {
+        spec.species[k].own["radius"] = 0.3 + 0.2 * static_cast<double>(k);
+        spec.species[k].own["inertia"] = k == 2 ? 0.35 : 0.0;
+      }
       if (pair_law(style).style == "edpd") {
         spec.species[k].own["cv"] = 100.0 + 50.0 * static_cast<double>(k);
         spec.species[k].own["temperature"] = 0.0;
@@ -150,6 +161,14 @@ SimulationSpec tdpd_general() {
     ps.own["sc1"] = 1.5;
     ps.own["sc2"] = 1.0;
   }
+  return spec;
+}
+
+// Single-particle DPD with w = (1 - r/r_d)^{1/2} along e and its own exponent across e for one pair (the
+// pow form of w_perp for every pair).
+SimulationSpec spdpd_own_exponent() {
+  SimulationSpec spec = three_species(style_named("spdpd"), 0.5);
+  spec.pairs[3].own["s_perp"] = 1.3;
   return spec;
 }
 
@@ -217,7 +236,9 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
                                       {"tdpd general", tdpd_general()},
                                       {"sdpd lucy linear", sdpd_species(DensityKernelChoice::Lucy, 1.0)},
                                       {"sdpd wendland tait", sdpd_species(DensityKernelChoice::Wendland, 7.0)},
-                                      {"sdpd lucy n=2.5", sdpd_species(DensityKernelChoice::Lucy, 2.5)}};
+                                      {"sdpd lucy n=2.5", sdpd_species(DensityKernelChoice::Lucy, 2.5)},
+                                      {"spdpd", three_species(style_named("spdpd"), 2.0)},
+                                      {"spdpd s=1/2 s_perp", spdpd_own_exponent()}};
   std::uint64_t seed = 11;
   int compared = 0;
   std::string names;
@@ -230,13 +251,15 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
       // Laws with scalars: eDPD's temperature from 0.6 to 1.8; tDPD's first two concentrations (of four:
       // the loop must skip the channels a run does not hold), from 0 to 3.
       const PairLawInfo& info = pair_law(lc.spec.pair_style);
-      const int scalars = std::min(info.scalars, 2);
+      const int scalars = info.style == "tdpd" ? std::min(info.scalars, 2) : info.scalars;
       const bool temperature = scalars > 0;
       std::mt19937_64 rng(seed);
       for (int c = 0; c < scalars; ++c) {
         start.enable(info.scalar_fields[static_cast<std::size_t>(c)]);
         start.enable(info.scalar_rates[static_cast<std::size_t>(c)]);
-        std::uniform_real_distribution<double> t(info.style == "edpd" ? 0.6 : 0.0, info.style == "edpd" ? 1.8 : 3.0);
+        // (single-particle DPD: angular velocities from -3 to 3)
+        std::uniform_real_distribution<double> t(info.style == "edpd" ? 0.6 : (info.style == "spdpd" ? -3.0 : 0.0),
+                                                 info.style == "edpd" ? 1.8 : 3.0);
         for (double& v : *start.doubles(info.scalar_fields[static_cast<std::size_t>(c)])) v = t(rng);
       }
       auto rates = [&](ParticleData& q) {
