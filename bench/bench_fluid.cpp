@@ -106,6 +106,20 @@ mesodpd::SimulationSpec sdpd(std::uint64_t n, double rc, bool verlet, double ski
   return s;
 }
 
+// The fluid above with single-particle DPD (pair.style = "spdpd"): particles of radius 0.5 with
+// gamma_perp = gamma = 4.5, so the spins, the non-central friction and the torques cost their share.
+mesodpd::SimulationSpec spdpd(std::uint64_t n, double skin, bool verlet) {
+  mesodpd::SimulationSpec s = fluid(n, skin, verlet);
+  const auto& laws = mesodpd::pair_law_infos();
+  for (std::size_t k = 0; k < laws.size(); ++k)
+    if (laws[k].style == "spdpd") s.pair_style = static_cast<mesodpd::PairStyle>(k);
+  s.pair_section.params.own = {{"gamma_perp", 4.5}};
+  s.species[0].own = {{"radius", 0.5}};
+  s.pairs.clear();
+  mesodpd::validate(s);
+  return s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,8 +144,8 @@ int main(int argc, char** argv) {
   app.add_option("--sdpd-rc", sdpd_rc, "kernel cutoff of --system sdpd and dpd-rc (1.5: 42 neighbours)");
   app.add_option("--system", system,
                  "fluid (rho = 3 DPD) | mdpd-slab (Warren's liquid slab, density 6) | sdpd (smoothed DPD, rho = 3) | "
-                 "dpd-rc (DPD with the cutoff --sdpd-rc)")
-      ->check(CLI::IsMember({"fluid", "mdpd-slab", "sdpd", "dpd-rc"}));
+                 "dpd-rc (DPD with the cutoff --sdpd-rc) | spdpd (the fluid with single-particle DPD's spins)")
+      ->check(CLI::IsMember({"fluid", "mdpd-slab", "sdpd", "dpd-rc", "spdpd"}));
   app.add_flag("--per-rank", per_rank, "--n is per MPI rank (weak scaling) instead of in total");
   try {
     app.parse(argc, argv);
@@ -154,9 +168,9 @@ int main(int argc, char** argv) {
   #else
     constexpr const char* kPrecision = "double precision";
   #endif
-    if (system == "fluid")
-      print("# fluid rho=3 a=25 gamma=4.5 kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", kPrecision, method,
-            method == "verlet" ? skin : 0.0);
+    if (system == "fluid" || system == "spdpd")
+      print("# {} rho=3 a=25 gamma=4.5{} kT=1 dt=0.04 GW lambda=0.5, {}, method={} skin={}\n", system,
+            system == "spdpd" ? " gamma_perp=4.5 radius=0.5" : "", kPrecision, method, method == "verlet" ? skin : 0.0);
     else if (system == "sdpd" || system == "dpd-rc")
       print("# {} rho=3 rc={} ({:.0f} neighbours) dt=0.01{}, {}, method={} skin={}\n", system, sdpd_rc,
             3.0 * 4.18879 * sdpd_rc * sdpd_rc * sdpd_rc, system == "sdpd" ? " eta=1 c=8 kT=0.1 Lucy" : " a=25 gamma=4.5",
@@ -174,6 +188,7 @@ int main(int argc, char** argv) {
         const std::uint64_t total = per_rank ? n * static_cast<std::uint64_t>(comm.size()) : n;
         const auto data = std::filesystem::temp_directory_path() / fmt::format("bench_mdpd_slab_{}_r{}.data", total, comm.rank());
         mesodpd::Simulation sim(system == "fluid"    ? fluid(total, skin, method == "verlet")
+                                : system == "spdpd"  ? spdpd(total, skin, method == "verlet")
                                 : system == "sdpd"   ? sdpd(total, sdpd_rc, method == "verlet", skin, false)
                                 : system == "dpd-rc" ? sdpd(total, sdpd_rc, method == "verlet", skin, true)
                                                      : mdpd_slab(total, method == "verlet", skin, data),

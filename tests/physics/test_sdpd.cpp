@@ -303,18 +303,11 @@ TEST(Sdpd, LeesEdwardsStressGivesTheReversePoiseuilleViscosity) {
 
 TEST(Sdpd, BitIdenticalForOneAndTwoThreadsAndAcrossARestart) {
   const auto dir = std::filesystem::temp_directory_path() / "mesodpd_sdpd_restart";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
   Fluid f;
   f.box_z = 5.0;
   f.p_b = 10.0;
   const SimulationSpec spec = parse_config(fluid_toml(f), "sdpd_restart.toml");
-  const auto one = test::run_on_threads(spec, 1, 100, dir);
-  EXPECT_TRUE(test::run_on_threads(spec, 2, 100, dir) == one) << "1 and 2 threads differ";
-  test::run_on_threads(spec, 1, 40, dir);
-  EXPECT_TRUE(test::run_on_threads(spec, 2, 100, dir, dir / "c40.mdpd") == one) << "the restarted run diverged";
-  omp_set_num_threads(1);
-  std::filesystem::remove_all(dir);
+  test::expect_bit_identical_on_threads_and_restart(spec, dir);
 }
 
 TEST(Sdpd, BadInputNamesTheKey) {

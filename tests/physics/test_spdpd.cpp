@@ -82,12 +82,12 @@ std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<dou
 }
 
 // A fluid of two species in a periodic box: solvent S (radius 0.5, mass 1) and larger particles B
-// (radius 1, mass 2, 10% of the particles), a = 25, gamma = gamma_perp = 4.5, dt = 0.01.
+// (radius 1, mass 2, 30% of the particles), a = 25, gamma = gamma_perp = 4.5, dt = 0.01.
 std::string fluid_toml(double box, const std::string& extra) {
   const std::string l = std::to_string(box);
   return "[system]\nbox = [" + l + ", " + l + ", " + l +
-         "]\nkT = 1.0\nseed = 23\n[[species]]\nname = \"S\"\nradius = 0.5\ndensity = 2.7\n[[species]]\nname = "
-         "\"B\"\nradius = 1.0\nmass = 2.0\ndensity = 0.3\n[pair]\nstyle = \"spdpd\"\ngamma_perp = 4.5\n"
+         "]\nkT = 1.0\nseed = 23\n[[species]]\nname = \"S\"\nradius = 0.5\ndensity = 2.1\n[[species]]\nname = "
+         "\"B\"\nradius = 1.0\nmass = 2.0\ndensity = 0.9\n[pair]\nstyle = \"spdpd\"\ngamma_perp = 4.5\n"
          "[integrator]\ndt = 0.01\n[output]\nthermo_every = 10\nprogress = false\n" +
          extra;
 }
@@ -228,8 +228,10 @@ TEST(Spdpd, RandomForceCovarianceIsTwoKTTimesTheFriction) {
 
 TEST(Spdpd, RunHoldsTheTranslationalAndRotationalTemperature) {
   // The spins are thermalised by the same friction and noise as the velocities: the mean rotational
-  // temperature I <Omega^2> / 3 must be kT, like the translational one, in a mixture of radii 0.5 and 1.
-  // Momentum is conserved exactly.
+  // temperature I <Omega^2> / 3 must be kT, like the translational one, in a mixture of radii 0.5 and 1
+  // (the 310 B particles sampled over 75 time units give I <Omega^2> / 3 to about 1%, slow collective
+  // modes included; long runs: 1.0027 (S) and 0.9985 (B) at dt = 0.01, 0.9992 and
+  // 1.0100 at dt = 0.005, docs/validation.md §13). Momentum is conserved exactly.
   const SimulationSpec spec = parse_config(fluid_toml(7.0, ""), "spdpd_temperature.toml");
   Simulation sim(spec, RunOptions{});
   const ThermoState t0 = sim.thermo();
@@ -237,9 +239,9 @@ TEST(Spdpd, RunHoldsTheTranslationalAndRotationalTemperature) {
   long count[2] = {0, 0};
   int samples = 0;
   const std::vector<double> inertia{0.4 * 0.25, 0.4 * 2.0};
-  for (int k = 1; k <= 3000; ++k) {
+  for (int k = 1; k <= 8000; ++k) {
     sim.step();
-    if (k % 10 != 0) continue;
+    if (k % 5 != 0) continue;
     const ThermoState t = sim.thermo();
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(t.momentum[c], t0.momentum[c], 1e-9) << "step " << k;
     if (k <= 500) continue;
@@ -258,7 +260,7 @@ TEST(Spdpd, RunHoldsTheTranslationalAndRotationalTemperature) {
               rot_b);
   EXPECT_NEAR(temperature, 1.0, 0.02);
   EXPECT_NEAR(rot_s, 1.0, 0.03);
-  EXPECT_NEAR(rot_b, 1.0, 0.05);
+  EXPECT_NEAR(rot_b, 1.0, 0.04);
 }
 
 TEST(Spdpd, RunConservesTotalAngularMomentumOfAnIsolatedCluster) {
@@ -341,15 +343,8 @@ TEST(Spdpd, RunConservesTotalAngularMomentumOfAnIsolatedCluster) {
 
 TEST(Spdpd, BitIdenticalForOneAndTwoThreadsAndAcrossARestart) {
   const auto dir = std::filesystem::temp_directory_path() / "mesodpd_spdpd_restart";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
   const SimulationSpec spec = parse_config(fluid_toml(5.0, ""), "spdpd_restart.toml");
-  const auto one = test::run_on_threads(spec, 1, 100, dir);
-  EXPECT_TRUE(test::run_on_threads(spec, 2, 100, dir) == one) << "1 and 2 threads differ";
-  test::run_on_threads(spec, 1, 40, dir);
-  EXPECT_TRUE(test::run_on_threads(spec, 2, 100, dir, dir / "c40.mdpd") == one) << "the restarted run diverged";
-  omp_set_num_threads(1);
-  std::filesystem::remove_all(dir);
+  test::expect_bit_identical_on_threads_and_restart(spec, dir);
 }
 
 TEST(Spdpd, BadInputNamesTheKey) {
