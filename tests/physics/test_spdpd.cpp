@@ -370,4 +370,8 @@ TEST(Spdpd, BadInputNamesTheKey) {
   refused(with("gamma_perp = 4.5\n", ""), "gamma_perp");
   refused(with("gamma_perp = 4.5\n", "gamma_perp = -1.0\n"), "gamma_perp");
   refused(with("dt = 0.01\n", "dt = 0.01\ntype = \"euler\"\n"), "integrator.type");
+  // A pairwise thermostat (with the law's friction off, as [thermostat] needs) would leave the spins out.
+  refused(with("gamma_perp = 4.5\n", "gamma_perp = 0.0\ngamma = 0.0\n") +
+              "[thermostat]\ntype = \"lowe-andersen\"\nrate = 4.5\n",
+          "the spins' friction");
 }
