@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
+#include <string_view>
 #include <fstream>
 #include <random>
 #include <string>
@@ -87,6 +89,14 @@ mesodpd::SimulationSpec mdpd_slab(std::uint64_t n, bool verlet, double skin, con
   return s;
 }
 
+// The pair style of the law named `name` in the engine's list.
+mesodpd::PairStyle style_named(std::string_view name) {
+  const auto& laws = mesodpd::pair_law_infos();
+  for (std::size_t k = 0; k < laws.size(); ++k)
+    if (laws[k].style == name) return static_cast<mesodpd::PairStyle>(k);
+  throw std::logic_error("no pair law named " + std::string(name));
+}
+
 // The smoothed-DPD fluid of examples/sdpd_fluid (number density 3, eta = 1, c = 8, kT = 0.1,
 // dt = 0.01) over the kernel cutoff rc (1.5: 42 neighbours); with `as_dpd`, the standard DPD fluid
 // (a = 25, gamma = 4.5) with the same cutoff for both forces, so the same N and neighbour count.
@@ -96,9 +106,7 @@ mesodpd::SimulationSpec sdpd(std::uint64_t n, double rc, bool verlet, double ski
   s.pair_section.params.rc = rc;
   if (!as_dpd) {
     s.kT = 0.1;
-    const auto& laws = mesodpd::pair_law_infos();
-    for (std::size_t k = 0; k < laws.size(); ++k)
-      if (laws[k].style == "sdpd") s.pair_style = static_cast<mesodpd::PairStyle>(k);
+    s.pair_style = style_named("sdpd");
     s.pair_section.params.own = {{"eta", 1.0}, {"c", 8.0}, {"rho0", 3.0}};
   }
   s.pairs.clear();
@@ -110,9 +118,7 @@ mesodpd::SimulationSpec sdpd(std::uint64_t n, double rc, bool verlet, double ski
 // gamma_perp = gamma = 4.5, so the spins, the non-central friction and the torques cost their share.
 mesodpd::SimulationSpec spdpd(std::uint64_t n, double skin, bool verlet) {
   mesodpd::SimulationSpec s = fluid(n, skin, verlet);
-  const auto& laws = mesodpd::pair_law_infos();
-  for (std::size_t k = 0; k < laws.size(); ++k)
-    if (laws[k].style == "spdpd") s.pair_style = static_cast<mesodpd::PairStyle>(k);
+  s.pair_style = style_named("spdpd");
   s.pair_section.params.own = {{"gamma_perp", 4.5}};
   s.species[0].own = {{"radius", 0.5}};
   s.pairs.clear();

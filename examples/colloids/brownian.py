@@ -138,7 +138,7 @@ def main():
         "D_t": d_t, "D_t_err": d_t_err, "D_r": d_r, "D_r_err": d_r_err,
         "a_t": a_t, "a_t_err": a_t_err, "a_r": a_r, "a_r_err": a_r_err, "a_t_over_a_r": a_t / a_r,
         "T_translational": t_trans, "T_rotational": t_rot,
-        "spin_relaxation_time": acf[0] and float(3 * d_r / acf[0]),
+        "spin_relaxation_time": float(3 * d_r / acf[0]),  # D_r / <Omega_a^2>
     }
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "brownian.json"), "w") as f:
