@@ -19,6 +19,7 @@
 #include "analysis/trajectory_output.hpp"
 #include "analysis/transport.hpp"
 #include "analysis/velocity_profile.hpp"
+#include "engine/analysis_installer.hpp"
 #include "engine/installer.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
@@ -29,33 +30,6 @@
 namespace mesodpd {
 
 namespace {
-
-bool measuring(const Installation& in) { return !in.options.out_dir.empty() || in.options.record; }
-AnalysisOutput output(const Installation& in) { return {in.options.out_dir, in.restarted}; }
-
-// Registers an analysis at EndOfStep with its checkpoint section (none where `section` is empty) and
-// its summary (on the root), and observes the initial state of a new run.
-template <class S>
-S& add_analysis(Installation& in, std::unique_ptr<S> stage, const std::string& section) {
-  S& s = in.stages.add(StagePoint::EndOfStep, std::move(stage));
-  if (!section.empty())
-    in.sections.push_back({section, [&s](ByteWriter& w) { s.save(w); },
-                           [&s](ByteReader& r, const std::string& context) { s.load(r, context); }});
-  in.summaries.push_back([&s](const StepContext& ctx) {
-    std::string text;
-    ctx.comm.on_root([&] { text = s.finish(ctx); });
-    return text;
-  });
-  if (!in.restarted) s.observe(in.context());
-  return s;
-}
-
-// The snapshot that the analyses of the whole system read (installed before them).
-SystemSnapshot& snapshot(const Installation& in) {
-  SystemSnapshot* s = in.components.find<SystemSnapshot>();
-  if (!s) throw std::logic_error("an analysis of the whole system is installed before the \"snapshot\" model");
-  return *s;
-}
 
 // The progress bar on the root, advanced at every step after the analyses.
 class ProgressStage final : public Stage {
