@@ -45,6 +45,8 @@ void install_rdf(Installation& in);               // [analysis.rdf]
 void install_msd(Installation& in);               // [analysis.msd]
 void install_transport(Installation& in);         // [analysis.transport]: D, eta and Sc by Green-Kubo
 ModelSection transport_section();                 // its keys (analysis/transport.hpp)
+void install_flux(Installation& in);              // [analysis.flux]: heat or solute flux, conductivity
+ModelSection flux_section();                      // its keys (analysis/scalar_flux.hpp)
 void install_droplet(Installation& in);           // [analysis.droplet]
 void install_stress_profile(Installation& in);    // [analysis.stress_profile]
 void install_progress(Installation& in);          // the progress bar
@@ -84,6 +86,7 @@ std::vector<Model> models() {
                           {"rdf", install_rdf, {}},
                           {"msd", install_msd, {}},
                           {"transport", install_transport, transport_section},
+                          {"flux", install_flux, flux_section},
                           {"droplet", install_droplet, {}},
                           {"stress_profile", install_stress_profile, {}},
                           {"progress", install_progress, {}},

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <variant>
 
 #include "engine/fixed_point.hpp"
@@ -282,6 +283,56 @@ std::function<void(const ParticleData&, const Box&, std::vector<double>&)> make_
     if (density) reference_density(p, box, *density, rho);
     reference_conservative_virial(p, box, laws, w, density ? rho.data() : nullptr);
   };
+}
+
+void reference_scalar_exchange(const ParticleData& p, const Box& box, const PairLawTables& laws, int channel,
+                               const std::vector<double>& capacity,
+                               const std::function<bool(std::size_t, std::size_t, double, double, double)>& want,
+                               const std::function<void(std::size_t, std::size_t, double)>& visit) {
+  std::visit(
+      [&](const auto& lt) {
+        using Law = typename std::decay_t<decltype(lt)>::LawType;
+        if constexpr (law_scalars<Law> == 0) {
+          throw std::invalid_argument("reference_scalar_exchange: the pair law transports no scalar");
+        } else {
+          if (channel < 0 || channel >= law_scalars<Law>)
+            throw std::invalid_argument("reference_scalar_exchange: no such scalar channel");
+          const std::vector<double>* sc[kMaxScalars] = {};
+          for (int c = 0; c <= channel; ++c)
+            if ((sc[c] = p.doubles(Law::kScalarFields[static_cast<std::size_t>(c)])) == nullptr)
+              throw std::invalid_argument("reference_scalar_exchange: the particles do not hold the scalar");
+          Law::with_evaluator(lt.table.params, [&](auto eval) {
+            for_each_pair_binned(p, box, lt.table.max_cutoff, [&](std::size_t i, std::size_t j, double dx,
+                                                                   double dy, double dz, double r) {
+              const bool wi = p.body[i] != 0, wj = p.body[j] != 0;
+              if ((wi && wj) || !want(i, j, dx, dy, dz)) return;
+              PairInput<double> in;  // xi, xs and xm stay 0: the random terms' mean
+              in.r = r;
+              const double inv_r = r > 0 ? 1.0 / r : 0.0;
+              double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
+              if (box.sheared()) {
+                double raw[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+                dv[box.shear.flow] -= box_displacement(box, raw) * box.shear.velocity;
+              }
+              in.rv = (dx * dv[0] + dy * dv[1] + dz * dv[2]) * inv_r;
+              in.inv_sqrt_dt = 1.0;
+              for (int c = 0; c <= channel; ++c) {
+                in.si[c] = (*sc[c])[i];
+                in.sj[c] = (*sc[c])[j];
+              }
+              if constexpr (law_non_central<Law>) {
+                in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
+                for (int c = 0; c < 3; ++c) in.dv[c] = dv[c];
+              }
+              const PairForceT<double> pf = eval(lt.table(p.species[i], p.species[j]), in);
+              const double qi = capacity[static_cast<std::size_t>(p.species[i])] * pf.qi[channel];
+              const double qj = capacity[static_cast<std::size_t>(p.species[j])] * pf.qj[channel];
+              visit(i, j, wi ? qi : (wj ? -qj : 0.5 * (qi - qj)));
+            });
+          });
+        }
+      },
+      laws);
 }
 
 void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho) {

@@ -54,6 +54,20 @@ void reference_conservative_virial_terms(const ParticleData& p, const Box& box, 
 std::function<void(const ParticleData&, const Box&, std::vector<double>&)> make_local_virial(
     PairLawTables laws, std::optional<DensitySettings> density);
 
+// The noise-free exchange of a transported scalar (a law with kScalars; eDPD's heat, tDPD's solutes)
+// between pairs of local particles: for every pair i < j within the law's range that `want(i, j, dx,
+// dy, dz)` accepts (d = r_i - r_j), visit(i, j, q) with q the amount of scalar `channel` per unit time
+// that flows from j into i, in conserved units (capacity[species] x the rate: C_v T for heat, C for a
+// solute). The pair's random terms are set to zero (their mean), so q is the conduction (Fick) part:
+// between two mobile particles the antisymmetric half (cap_i q_i - cap_j q_j) / 2, which leaves out a
+// symmetric source such as eDPD's viscous heating; with a wall (frozen) particle the wall's side alone,
+// which holds no viscous share. For [analysis.flux]; serial, pairs in index order. Throws
+// std::invalid_argument for a law without scalars or a channel the particles do not hold.
+void reference_scalar_exchange(const ParticleData& p, const Box& box, const PairLawTables& laws, int channel,
+                               const std::vector<double>& capacity,
+                               const std::function<bool(std::size_t, std::size_t, double, double, double)>& want,
+                               const std::function<void(std::size_t, std::size_t, double)>& visit);
+
 // rho[i] = sum over j != i of w(r_ij), in the engine's fixed point.
 void reference_density(const ParticleData& p, const Box& box, const DensitySettings& density, std::vector<double>& rho);
 
