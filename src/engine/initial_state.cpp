@@ -15,6 +15,9 @@
 #include "engine/blow_up_error.hpp"
 #include "core/philox.hpp"
 #include "io/lammps_data_reader.hpp"
+#include "engine/pair_laws.hpp"
+#include "engine/transported_scalars.hpp"
+#include "mesodpd/config_error.hpp"
 
 namespace mesodpd {
 
@@ -28,8 +31,15 @@ Philox4x32 particle_bits(std::uint64_t seed, RngStream stream, std::uint32_t id,
 
 // Returns whether the file had a Velocities section. With `topology`, also its bonds and angles.
 bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topology* topology) {
-  const LammpsData data = read_lammps_data(spec.data_file);
+  const LammpsData data = read_lammps_data(spec.data_file, tdpd_solutes(spec));
   const int ns = static_cast<int>(spec.species.size());
+  // Atom styles edpd and tdpd carry the transported scalars of their pair style, and only of it.
+  const std::string_view law = pair_law(spec.pair_style).style;
+  if ((data.style == "edpd" || data.style == "tdpd") && law != data.style)
+    throw ConfigError(fmt::format("init.lammps_data: the data file '{}' has atom style {} (its Atoms section), which "
+                                  "needs pair.style = \"{}\" (this run's is \"{}\")",
+                                  spec.data_file, data.style, data.style, law),
+                      "init.lammps_data");
   // Every bond and angle type of the file needs its parameters in the config ([[bond_type]] k is type k).
   if (!data.bonds.empty() && data.n_bond_types > static_cast<int>(spec.bond_types.size()))
     throw ConfigError(fmt::format("bond_type: the data file {} has {} bond types but the config defines {} "
@@ -103,11 +113,31 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
                                       spec.data_file, a.id, "xyz"[d]));
       }
     }
+    if (data.style == "edpd") {
+      // The heat capacity is the species' (C_v per particle, species[k].cv): the file must agree.
+      const double cv = spec.species[static_cast<std::size_t>(a.type - 1)].own.at("cv");
+      if (std::abs(a.cv - cv) > 1e-12 * cv)
+        throw ConfigError(fmt::format("species[{}].cv: {} differs from edpd_cv {} of atom {} (type {}) in '{}', line {}",
+                                      a.type - 1, cv, a.cv, a.id, a.type, spec.data_file, a.line),
+                          fmt::format("species[{}].cv", a.type - 1));
+    }
     if (data.has_velocities) {
       p.vx[i] = data.velocities[i][0];
       p.vy[i] = data.velocities[i][1];
       p.vz[i] = data.velocities[i][2];
     }
+  }
+  // The file's temperatures or concentrations: the fields enabled here keep them (engine/install_edpd.cpp,
+  // install_tdpd.cpp start the others from the species' keys).
+  if (data.style == "edpd") {
+    p.enable("temp");
+    for (std::size_t i = 0; i < n; ++i) p.temp[i] = data.atoms[i].temp;
+  }
+  for (int k = 0; k < data.concentrations; ++k) {
+    const std::string field = fmt::format("conc{}", k + 1);
+    p.enable(field);
+    std::vector<double>& c = *p.doubles(field);
+    for (std::size_t i = 0; i < n; ++i) c[i] = data.atoms[i].conc[static_cast<std::size_t>(k)];
   }
   return data.has_velocities;
 }

@@ -152,6 +152,12 @@ void half_step(StepContext& ctx, TdpdState& s) {
 
 ModelSection tdpd_section() { return model_section(tdpd_keys(), check_tdpd); }
 
+int tdpd_solutes(const SimulationSpec& spec) {
+  if (pair_law(spec.pair_style).style != TdpdLaw::kStyle) return 0;
+  const TdpdSpec* t = spec.model<TdpdSpec>("tdpd");
+  return t ? t->solutes : 1;
+}
+
 std::string tdpd_numbers(const SimulationSpec& spec) {
   if (pair_law(spec.pair_style).style != TdpdLaw::kStyle || spec.species.empty()) return "";
   const TdpdSpec* t = spec.model<TdpdSpec>("tdpd");
@@ -203,8 +209,22 @@ void install_tdpd(Installation& in) {
                           "tdpd.solutes");
       continue;
     }
-    p.enable(field);
     p.enable(rates);
+    if (p.enabled(field)) {
+      // From a data file (atom style tdpd): a solute wall's particles must hold the wall's value.
+      const double* c = conc(p, k);
+      for (std::size_t i = 0; i < p.n_local; ++i) {
+        const auto sp = static_cast<std::size_t>(p.species[i]);
+        const double held = s->start[sp][static_cast<std::size_t>(k)];
+        if (s->frozen[sp] && spec.species[sp].own.at("solute_wall") > 0.5 && c[i] != held)
+          throw ConfigError(fmt::format("species[{}].conc{}: the solute wall is held at {}, but the data file gives "
+                                        "particle {} the concentration {}",
+                                        sp, k + 1, held, p.id[i], c[i]),
+                            fmt::format("species[{}].conc{}", sp, k + 1));
+      }
+      continue;
+    }
+    p.enable(field);
     double* c = conc(p, k);
     for (std::size_t i = 0; i < p.n_local; ++i)
       c[i] = s->start[static_cast<std::size_t>(p.species[i])][static_cast<std::size_t>(k)];

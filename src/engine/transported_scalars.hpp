@@ -15,6 +15,10 @@ void check_scalar_field(const std::string& field, const SimulationSpec& spec, co
 // Refuses a field the particles do not hold (a solute beyond [tdpd] solutes), naming `key` = `value`.
 void require_held(const ParticleData& p, const std::string& field, const std::string& key, const std::string& value);
 
+// The solutes a tDPD run carries ([tdpd] solutes, 1 without the section); 0 for another pair style.
+// Defined with the tDPD model (engine/install_tdpd.cpp).
+int tdpd_solutes(const SimulationSpec& spec);
+
 // The number density of the mobile (not frozen) species: the fluid a transported scalar moves in.
 double mobile_density(const SimulationSpec& spec);
 

@@ -115,7 +115,7 @@ struct Section {
 
 }  // namespace
 
-LammpsData read_lammps_data(const std::filesystem::path& path) {
+LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentrations) {
   Parser p(path);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) p.fail("file does not exist");
@@ -218,12 +218,15 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
     const Section** slot = nullptr;
     if (name == "Atoms") {
       slot = &atoms;
-      static const char* const kStyles[] = {"atomic", "bond", "angle", "molecular", "full"};
+      static const char* const kStyles[] = {"atomic", "bond", "angle", "molecular", "full", "edpd", "tdpd"};
       if (!s.header.comment.empty() &&
           std::find(std::begin(kStyles), std::end(kStyles), s.header.comment) == std::end(kStyles)) {
         p.fail(s.header, "atom style '" + s.header.comment +
-                             "' is not supported: atomic, bond, angle, molecular or full (without charges)");
+                             "' is not supported: atomic, bond, angle, molecular, full (without charges), edpd or tdpd");
       }
+      if (s.header.comment == "tdpd" && tdpd_concentrations <= 0)
+        p.fail(s.header, "atom style 'tdpd' is read only by a run with pair.style = \"tdpd\" (its [tdpd] solutes "
+                         "give the number of cc columns)");
     } else if (name == "Bonds") {
       slot = &bonds;
     } else if (name == "Angles") {
@@ -287,10 +290,21 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
         p.fail(atoms->lines.front(), "cannot tell the atom style from " + std::to_string(c) +
                                          " columns; name it after 'Atoms' (e.g. 'Atoms # molecular')");
     }
-    const std::size_t base = style == "atomic" ? 5 : style == "molecular" ? 6 : 7;
-    const char* layout = style == "atomic"      ? "'id type x y z [ix iy iz]' (atom_style atomic)"
-                         : style == "molecular" ? "'id mol type x y z [ix iy iz]' (atom_style molecular)"
-                                                : "'id mol type q x y z [ix iy iz]' (atom_style full)";
+    data.style = style;
+    const bool edpd = style == "edpd", tdpd = style == "tdpd";
+    if (tdpd) data.concentrations = tdpd_concentrations;
+    const std::size_t base = style == "atomic"      ? 5
+                             : style == "molecular" ? 6
+                             : edpd                 ? 7
+                             : tdpd                 ? 5 + static_cast<std::size_t>(tdpd_concentrations)
+                                                    : 7;
+    const std::string layout =
+        style == "atomic"      ? "'id type x y z [ix iy iz]' (atom_style atomic)"
+        : style == "molecular" ? "'id mol type x y z [ix iy iz]' (atom_style molecular)"
+        : edpd                 ? "'id type edpd_temp edpd_cv x y z [ix iy iz]' (atom_style edpd)"
+        : tdpd ? "'id type x y z cc1 .. cc" + std::to_string(tdpd_concentrations) + " [ix iy iz]' (atom_style tdpd, " +
+                     std::to_string(tdpd_concentrations) + " solutes as in [tdpd] solutes)"
+               : "'id mol type q x y z [ix iy iz]' (atom_style full)";
     for (const Line& line : atoms->lines) {
       const auto& t = line.tokens;
       if (t.size() != base && t.size() != base + 3) {
@@ -299,10 +313,25 @@ LammpsData read_lammps_data(const std::filesystem::path& path) {
       LammpsAtom a;
       a.id = static_cast<std::uint32_t>(p.integer(line, 0, "atom id", 1, kMaxCount));
       std::size_t c = 1;
-      if (base >= 6)
+      if (style == "molecular" || style == "full")
         a.mol = static_cast<std::int32_t>(p.integer(line, c++, "molecule id", 0, std::numeric_limits<std::int32_t>::max()));
       a.type = static_cast<int>(p.integer(line, c++, "atom type", 1, data.n_types));
-      if (base == 7) {
+      if (edpd) {
+        a.temp = p.real(line, c++, "edpd_temp");
+        a.cv = p.real(line, c++, "edpd_cv");
+        if (!(a.temp > 0)) p.fail(line, "edpd_temp " + line.tokens[c - 2] + " of atom " + std::to_string(a.id) + " must be positive");
+        if (!(a.cv > 0)) p.fail(line, "edpd_cv " + line.tokens[c - 1] + " of atom " + std::to_string(a.id) + " must be positive");
+      }
+      if (tdpd) {
+        for (int k = 0; k < tdpd_concentrations; ++k) {
+          const std::size_t col = 5 + static_cast<std::size_t>(k);
+          a.conc[static_cast<std::size_t>(k)] = p.real(line, col, "concentration");
+          if (a.conc[static_cast<std::size_t>(k)] < 0)
+            p.fail(line, "concentration cc" + std::to_string(k + 1) + " = " + line.tokens[col] + " of atom " +
+                             std::to_string(a.id) + " is negative");
+        }
+      }
+      if (style == "full") {
         const double q = p.real(line, c++, "charge");
         if (q != 0.0)
           p.fail(line, "charge " + line.tokens[c - 1] + " of atom " + std::to_string(a.id) +

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace mesodpd {
@@ -15,6 +16,8 @@ struct LammpsAtom {
   double x = 0, y = 0, z = 0;  // as written; not wrapped into the box
   std::int32_t ix = 0, iy = 0, iz = 0;  // image flags, 0 when the file has none
   std::int32_t mol = 0;        // molecule id (styles bond, angle, molecular, full), 0 otherwise
+  double temp = 0, cv = 0;     // atom style edpd: internal temperature and heat capacity
+  std::array<double, 4> conc{};  // atom style tdpd: the concentrations cc1 .. ccN
   std::size_t line = 0;        // 1-based line of the file, for messages about the atom
 };
 
@@ -25,6 +28,8 @@ struct LammpsBonded {
 };
 
 struct LammpsData {
+  std::string style;              // the Atoms section's style: atomic, molecular, full, edpd or tdpd
+  int concentrations = 0;         // atom style tdpd: N, the cc columns per atom
   std::array<double, 3> lo{}, hi{};
   int n_types = 0;
   std::vector<double> masses;     // masses[t - 1] for type t; empty without a Masses section
@@ -40,12 +45,16 @@ struct LammpsData {
 // Masses, Atoms, Velocities ("id vx vy vz"), Bonds ("id type a b") and Angles ("id type a b c")
 // sections, and skips "... Coeffs" sections (interactions come from the config). Atoms lines are
 // "id type x y z" (atomic), "id mol type x y z" (bond, angle, molecular) or "id mol type q x y z"
-// (full; every charge must be zero: DPD has no electrostatics), each optionally followed by image
-// flags; the style is the comment after "Atoms" or, without one, follows from the column count.
+// (full; every charge must be zero: DPD has no electrostatics), "id type T cv x y z" (edpd: the
+// internal temperature and heat capacity of energy-conserving DPD) or "id type x y z cc1 .. ccN" (tdpd,
+// N = `tdpd_concentrations`, the solutes the run carries; 0 refuses the style), each optionally followed
+// by image flags; the style is the comment after "Atoms" or, without one, follows from the column count
+// (edpd and tdpd must be named). A temperature or heat capacity must be positive, a concentration not
+// negative, and every number finite (NaN and inf are refused naming the line).
 // Everything else is an error. Errors are ConfigError naming the file and, for a bad line, its
 // line number: malformed line, tilted box ("orthorhombic only"), an atom style not read, a nonzero
 // charge, dihedrals or impropers, duplicate id, type out of range, count mismatch, missing Atoms
 // section, velocity for an unknown id, a bond or angle naming an atom that does not exist.
-LammpsData read_lammps_data(const std::filesystem::path& path);
+LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentrations = 0);
 
 }  // namespace mesodpd

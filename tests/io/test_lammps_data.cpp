@@ -122,6 +122,45 @@ TEST_F(LammpsDataTest, ReadsMinimalFileWithoutOptionalParts) {
   EXPECT_EQ(d.atoms[1].iz, 0);
 }
 
+// Atom styles edpd ("id type edpd_temp edpd_cv x y z") and tdpd ("id type x y z cc1 .. ccN", N from the
+// run), with and without image flags; non-finite, non-positive temperatures and negative concentrations
+// are refused naming the line, and so is tdpd where the run carries no solutes.
+TEST_F(LammpsDataTest, ReadsEdpdAndTdpdColumns) {
+  const std::string box = "title\n2 atoms\n1 atom types\n0 4 xlo xhi\n0 4 ylo yhi\n0 4 zlo zhi\n\n";
+  const LammpsData e = read_lammps_data(write(box + "Atoms # edpd\n\n1 1 1.25 100 0.5 0.5 0.5\n2 1 0.75 100 1 2 3 0 1 0\n"));
+  EXPECT_EQ(e.style, "edpd");
+  ASSERT_EQ(e.atoms.size(), 2u);
+  EXPECT_EQ(e.atoms[0].temp, 1.25);
+  EXPECT_EQ(e.atoms[0].cv, 100.0);
+  EXPECT_EQ(e.atoms[1].z, 3.0);
+  EXPECT_EQ(e.atoms[1].iy, 1);
+  const LammpsData t =
+      read_lammps_data(write(box + "Atoms # tdpd\n\n1 1 0.5 0.5 0.5 0.25 2\n2 1 1 2 3 0 1.5 0 0 -1\n"), 2);
+  EXPECT_EQ(t.style, "tdpd");
+  EXPECT_EQ(t.concentrations, 2);
+  EXPECT_EQ(t.atoms[0].conc[0], 0.25);
+  EXPECT_EQ(t.atoms[0].conc[1], 2.0);
+  EXPECT_EQ(t.atoms[1].conc[1], 1.5);
+  EXPECT_EQ(t.atoms[1].iz, -1);
+  const auto refused = [&](const std::string& atoms, int n, int line, const std::string& needle) {
+    try {
+      (void)read_lammps_data(write(box + atoms), n);
+      ADD_FAILURE() << "accepted: " << atoms;
+    } catch (const ConfigError& err) {
+      const std::string msg = err.what();
+      EXPECT_NE(msg.find("line " + std::to_string(line) + ":"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+    }
+  };
+  refused("Atoms # edpd\n\n1 1 1 100 0 0 0\n2 1 nan 100 1 1 1\n", 0, 11, "cannot read edpd_temp");
+  refused("Atoms # edpd\n\n1 1 -1 100 0 0 0\n2 1 1 100 1 1 1\n", 0, 10, "edpd_temp -1 of atom 1 must be positive");
+  refused("Atoms # edpd\n\n1 1 1 0 0 0 0\n2 1 1 100 1 1 1\n", 0, 10, "edpd_cv 0 of atom 1 must be positive");
+  refused("Atoms # tdpd\n\n1 1 0 0 0 1 inf\n2 1 1 1 1 1 1\n", 2, 10, "cannot read concentration");
+  refused("Atoms # tdpd\n\n1 1 0 0 0 1 1\n2 1 1 1 1 1 -0.5\n", 2, 11, "cc2 = -0.5 of atom 2 is negative");
+  refused("Atoms # tdpd\n\n1 1 0 0 0 1\n2 1 1 1 1 1\n", 0, 8, "pair.style = \"tdpd\"");
+  refused("Atoms # tdpd\n\n1 1 0 0 0 1\n2 1 1 1 1 1\n", 2, 10, "cc1 .. cc2");
+}
+
 // Styles molecular and full (zero charges): molecule ids, Bonds and Angles read exactly.
 TEST_F(LammpsDataTest, ReadsMolecularTopology) {
   const std::string molecular = R"(chains
