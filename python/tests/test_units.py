@@ -76,6 +76,27 @@ def test_conversion_round_trips():
         m.unit("colour")
 
 
+def test_heat_and_solute_quantities():
+    """eDPD's C_v, conductivity and diffusivities (docs/units.md, "Heat and solutes"): a temperature of 1 is
+    the mapping's 300 K; C_v counts k_B per particle, so water's specific heat 4181 J/(kg K) is
+    c m / k_B = 27.2 for a bead of three molecules; a conductivity k = n C_v D (reduced) converts as
+    k_B / (r_c tau) and agrees with the SI product of its parts."""
+    m = units.water(coarse_graining=3)
+    assert m.to_si(1.0, "temperature") == pytest.approx(300.0, rel=1e-12)
+    assert m.unit("heat_capacity") == KB
+    cv = m.from_si(4181.0, "specific_heat")
+    assert cv == pytest.approx(4181.0 * m.mass / KB, rel=1e-12)
+    assert cv == pytest.approx(27.18, rel=1e-3)
+    n, d = 3.0, 0.4
+    k_si = m.to_si(n * cv * d, "thermal_conductivity")
+    n_si, d_si = m.to_si(n, "number_density"), m.to_si(d, "thermal_diffusivity")
+    assert k_si == pytest.approx(n_si * cv * KB * d_si, rel=1e-12)
+    assert m.unit("thermal_diffusivity") == m.unit("diffusion")
+    assert m.unit("heat_flux") == pytest.approx(m.unit("thermal_conductivity") * m.unit("temperature") / m.length,
+                                                rel=1e-12)
+    assert m.unit("power") == pytest.approx(m.unit("energy") / m.time, rel=1e-12)
+
+
 def test_measured_alpha_table():
     assert units.measured_alpha(3) == pytest.approx(0.09176)
     assert units.measured_alpha(3.5) == pytest.approx((0.09176 + 0.09575) / 2)

@@ -80,7 +80,17 @@ std::vector<std::pair<std::string, std::string>> quantities() {
           {"thermal_pressure", "Pa"},
           {"number_density", "1/m^3"},
           {"mass_density", "kg/m^3"},
-          {"shear_rate", "1/s"}};
+          {"shear_rate", "1/s"},
+          // eDPD and tDPD (pair.style = "edpd", "tdpd"; docs/units.md, "Heat and solutes"): a temperature
+          // of 1 is the mapping's T, C_v is in units of k_B per particle, and the diffusivities of heat and
+          // solutes are lengths squared per time.
+          {"temperature", "K"},
+          {"heat_capacity", "J/K"},
+          {"specific_heat", "J/(kg K)"},
+          {"thermal_conductivity", "W/(m K)"},
+          {"thermal_diffusivity", "m^2/s"},
+          {"heat_flux", "W/m^2"},
+          {"power", "W"}};
 }
 
 double Mapping::unit(const std::string& q) const {
@@ -99,6 +109,13 @@ double Mapping::unit(const std::string& q) const {
   if (q == "number_density") return 1.0 / (L * L * L);
   if (q == "mass_density") return M / (L * L * L);
   if (q == "shear_rate") return 1.0 / T;
+  if (q == "temperature") return energy / kBoltzmann;
+  if (q == "heat_capacity") return kBoltzmann;
+  if (q == "specific_heat") return kBoltzmann / M;
+  if (q == "thermal_conductivity") return kBoltzmann / (L * T);
+  if (q == "thermal_diffusivity") return L * L / T;
+  if (q == "heat_flux") return energy / (L * L * T);
+  if (q == "power") return energy / T;
   std::string names;
   for (const auto& [name, symbol] : quantities()) names += (names.empty() ? "" : ", ") + name;
   bad(fmt::format("quantity '{}' is not known; one of: {}", q, names));

@@ -4,13 +4,16 @@
 // against g. A Forces stage, added to the pair forces one particle at a time, so the result does not
 // depend on thread or rank count.
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "analysis/kinetic_theory.hpp"
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
@@ -80,6 +83,67 @@ class BuoyancyForce final : public Stage {
 }  // namespace
 
 ModelSection buoyancy_section() { return model_section(buoyancy_keys(), check_buoyancy); }
+
+// The Rayleigh number g beta dX L^3 / (nu D) for `mesodpd check`: dX the spread of the values the walls
+// hold (thermal walls: a frozen species with `temperature`; solute walls: `solute_wall = 1`), L the
+// distance between the two plane [[solid]] surfaces normal to g (else the box length along g's largest
+// component), nu and D the kinetic-theory estimates (seed 000 Eq. 16; D = D_self + the mean-field
+// exchange), so an estimate: a run measures D ([analysis.flux]) and nu ([poiseuille]).
+std::string buoyancy_numbers(const SimulationSpec& spec) {
+  const BuoyancySpec* b = spec.model<BuoyancySpec>("buoyancy");
+  if (!b || spec.species.empty()) return "";
+  const bool heat = b->field == "temp";
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const SpeciesSpec& sp : spec.species) {
+    if (!sp.frozen) continue;
+    if (heat && sp.own.count("temperature") && sp.own.at("temperature") > 0) {
+      lo = std::min(lo, sp.own.at("temperature"));
+      hi = std::max(hi, sp.own.at("temperature"));
+    }
+    const std::string conc = b->field;
+    if (!heat && sp.own.count("solute_wall") && sp.own.at("solute_wall") > 0.5 && sp.own.count(conc)) {
+      lo = std::min(lo, sp.own.at(conc));
+      hi = std::max(hi, sp.own.at(conc));
+    }
+  }
+  const double g = std::sqrt(b->gravity[0] * b->gravity[0] + b->gravity[1] * b->gravity[1] + b->gravity[2] * b->gravity[2]);
+  if (!(hi > lo) || !(g > 0))
+    return "buoyancy: no Rayleigh number (it needs walls held at two values of " + b->field + " and a gravity)\n";
+  const std::array<double, 3> e{b->gravity[0] / g, b->gravity[1] / g, b->gravity[2] / g};
+  std::vector<double> planes;
+  for (const SolidSpec& s : spec.solids) {
+    if (s.shape.kind != ShapeKind::Plane) continue;
+    const auto& n = s.shape.normal;
+    const double dot = n[0] * e[0] + n[1] * e[1] + n[2] * e[2];
+    if (std::abs(std::abs(dot) - 1.0) < 1e-9) planes.push_back(s.shape.point[0] * e[0] + s.shape.point[1] * e[1] + s.shape.point[2] * e[2]);
+  }
+  int axis = 0;
+  for (int d = 1; d < 3; ++d)
+    if (std::abs(e[static_cast<std::size_t>(d)]) > std::abs(e[static_cast<std::size_t>(axis)])) axis = d;
+  const double depth = planes.size() >= 2 ? *std::max_element(planes.begin(), planes.end()) -
+                                                *std::min_element(planes.begin(), planes.end())
+                                          : spec.box[static_cast<std::size_t>(axis)];
+  const double n = mobile_density(spec);
+  const PairSpec& p = spec.pair(0, 0);
+  const double nu = kinetic_viscosity(n, p.gamma, spec.kT, p.rd, p.s) / n;
+  const double d_self = kinetic_diffusivity(n, p.gamma, spec.kT, p.rd, p.s);
+  double d_exchange = 0;
+  if (heat) {
+    const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
+    d_exchange = exchange_diffusivity(n, spec.species.front().own.at("cv") * p.value("kappa"), rct, p.value("st"));
+  } else {
+    const std::string k(1, b->field[4]);
+    const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
+    d_exchange = exchange_diffusivity(n, p.value("kappa" + k), rcc, p.value("sc" + k));
+  }
+  const double ra = g * std::abs(b->beta) * (hi - lo) * depth * depth * depth / (nu * (d_self + d_exchange));
+  return fmt::format(
+      "buoyancy: Rayleigh number g beta dX L^3 / (nu D) = {:.4g} (dX = {:.4g} between the walls, L = {:.4g}{}; nu = "
+      "{:.4g} and D = {:.4g} by kinetic theory, an estimate: at a = 25 both come out higher than measured, so a run's "
+      "Ra is larger (examples/convection measures D with [analysis.flux] and nu with [poiseuille]); a layer "
+      "heated from below between rigid walls turns to convection at Ra = 1708\n",
+      ra, hi - lo, depth, planes.size() >= 2 ? " between the plane walls" : " (the box along g)", nu, d_self + d_exchange);
+}
 
 void install_buoyancy(Installation& in) {
   const BuoyancySpec* b = in.spec.model<BuoyancySpec>("buoyancy");

@@ -21,6 +21,7 @@ ModelSection source_section();                   // [[source]]
 ModelSection reaction_section();                 // [[reaction]]
 void install_buoyancy(Installation& in);         // [buoyancy]: Boussinesq body force (Forces)
 ModelSection buoyancy_section();
+std::string buoyancy_numbers(const SimulationSpec&);  // its Rayleigh number for `mesodpd check`
 void install_lees_edwards(Installation& in);     // [lees_edwards]: shear images, profile, stress (EndOfStep)
 ModelSection lees_edwards_section();
 std::string lees_edwards_numbers(const SimulationSpec&);
@@ -68,7 +69,7 @@ std::vector<Model> models() {
                           {"sources", install_sources, source_section},
                           // [[reaction]]'s keys; the sources' installer runs its stages too.
                           {"reactions", +[](Installation&) {}, reaction_section},
-                          {"buoyancy", install_buoyancy, buoyancy_section},
+                          {"buoyancy", install_buoyancy, buoyancy_section, buoyancy_numbers},
                           {"lees_edwards", install_lees_edwards, lees_edwards_section, lees_edwards_numbers,
                            lees_edwards_images},
                           {"sdpd", install_sdpd, {}, sdpd_numbers},

@@ -13,11 +13,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analysis/kinetic_theory.hpp"
 #include "analysis/scalar_flux.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
 #include "mesodpd/config.hpp"
 #include "mesodpd/config_error.hpp"
+#include "schema/declared_tables.hpp"
 #include "test_support.hpp"
 #include "transport_configs.hpp"
 
@@ -219,4 +221,23 @@ TEST(Flux, RefusesBadInputNamingTheKey) {
   expect_refused(with("position = 3\nbin = 3\n"), "analysis.flux.bin");
   expect_refused(with("planes = 2\n"), "analysis.flux.position");  // required
   expect_refused(with("position = 3\nblocks = 1\n"), "analysis.flux.blocks");
+}
+
+// `mesodpd check` prints the Rayleigh number of a buoyant layer between two walls held at two
+// temperatures: g beta dT L^3 / (nu D) with L the distance between the plane walls normal to g and the
+// kinetic-theory nu and D (self-diffusion plus the mean-field exchange).
+TEST(Flux, CheckPrintsTheRayleighNumberOfAHeatedLayer) {
+  const std::string text =
+      test::plate_channel_config("cv = 100.0", "cv = 100.0\ntemperature = 1.1", "cv = 100.0\ntemperature = 0.9",
+                                 "style = \"edpd\"\nkappa = 0.05") +
+      "\n[buoyancy]\nbeta = 1.0\nreference = 1.0\ngravity = [0.0, 0.0, -0.5]\n";
+  const std::string lines = model_numbers_summary(parse_config(text, "n.toml"));
+  std::printf("%s", lines.c_str());
+  const double n = 3.0, nu = kinetic_viscosity(n, 4.5, 1.0, 1.0, 2.0) / n;
+  const double d = kinetic_diffusivity(n, 4.5, 1.0, 1.0, 2.0) + 2 * kPi * n * 100.0 * 0.05 / 315.0;
+  const double ra = 0.5 * 0.2 * 1000.0 / (nu * d);
+  EXPECT_NE(lines.find(fmt::format("Rayleigh number g beta dX L^3 / (nu D) = {:.4g} (dX = 0.2 between the walls, L = 10 "
+                                   "between the plane walls",
+                                   ra)),
+            std::string::npos);
 }
