@@ -82,8 +82,9 @@ void check_flux(const FluxSpec& f, const std::array<double, 3>& box) {
     const double z = f.position + k * f.spacing;
     if (!(z > 0 && z < len))
       keys::fail(k == 0 ? p + "position" : p + "spacing", fmt::format("{}", k == 0 ? f.position : f.spacing),
-                 fmt::format("plane {} lies at {}, outside the box (0 < {} < {} along {})", k, z, "position",
-                             len, "xyz"[f.axis]));
+                 fmt::format("plane {} (of {}) lies at {}, outside the box: every plane must lie strictly between 0 "
+                             "and {} along {}",
+                             k + 1, f.planes, z, len, "xyz"[f.axis]));
   }
   if (2 * f.slab >= len)
     keys::fail(p + "slab", fmt::format("{}", f.slab), fmt::format("the slab (2 x slab) must be narrower than the box ({})", len));
