@@ -21,7 +21,7 @@ reads its flux.json and flux_profile.csv:
 
 Writes OUT/conductivity.json and, with --png, D_T - D_0 against the mean field for both cutoffs. --check
 exits 1 unless every run's middle-plane flux lies between the two walls' (within 4 errors), D_0 lies
-within 20% of the fluid's self-diffusion 0.30 (docs/validation.md 4 and 10: without conduction only the
+within 25% of the fluid's self-diffusion 0.30 (docs/validation.md 4 and 10: without conduction only the
 particles' own motion carries heat), and, where its error is below 0.1, the conduction's share is between
 0.3 and 1.1 of the mean field (docs/validation.md 8: a disordered fluid's pair network conducts 0.4-0.8
 of it).
@@ -141,9 +141,9 @@ def main():
         if r["mean_field"] > 0 and share_err < 0.1 and not (0.3 < share < 1.1):
             ok = False
             print(f"C_v kappa {r['cv_kappa']:g}, r_cT {r['rct']:g}: the conduction's share {share:.3f} is outside (0.3, 1.1)")
-    if not (0.24 < d0[0] < 0.36):
+    if not (0.225 < d0[0] < 0.375):
         ok = False
-        print(f"D_0 = {d0[0]:.4f} is not within 20% of the self-diffusion 0.30")
+        print(f"D_0 = {d0[0]:.4f} is not within 25% of the self-diffusion 0.30")
     json.dump({"D_0": d0[0], "D_0_err": d0[1], "runs": rows}, open(os.path.join(a.out, "conductivity.json"), "w"), indent=2)
     if a.png:
         import matplotlib
