@@ -113,13 +113,26 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
                                       spec.data_file, a.id, "xyz"[d]));
       }
     }
+    // The scalars of atom styles edpd and tdpd (checked here, where every rank holds every atom, so that
+    // all refuse together): the heat capacity is the species' (C_v per particle, species[k].cv), and a
+    // wall held at a temperature or a concentration starts at it.
+    const SpeciesSpec& sp = spec.species[static_cast<std::size_t>(a.type - 1)];
+    const auto refuse = [&](const std::string& key, const std::string& what) {
+      throw ConfigError(fmt::format("species[{}].{}: {} (atom {} in '{}', line {})", a.type - 1, key, what, a.id,
+                                    spec.data_file, a.line),
+                        fmt::format("species[{}].{}", a.type - 1, key));
+    };
     if (data.style == "edpd") {
-      // The heat capacity is the species' (C_v per particle, species[k].cv): the file must agree.
-      const double cv = spec.species[static_cast<std::size_t>(a.type - 1)].own.at("cv");
-      if (std::abs(a.cv - cv) > 1e-12 * cv)
-        throw ConfigError(fmt::format("species[{}].cv: {} differs from edpd_cv {} of atom {} (type {}) in '{}', line {}",
-                                      a.type - 1, cv, a.cv, a.id, a.type, spec.data_file, a.line),
-                          fmt::format("species[{}].cv", a.type - 1));
+      const double cv = sp.own.at("cv"), held = sp.own.at("temperature");
+      if (std::abs(a.cv - cv) > 1e-12 * cv) refuse("cv", fmt::format("{} differs from the file's edpd_cv {}", cv, a.cv));
+      if (sp.frozen && held > 0 && a.temp != held)
+        refuse("temperature", fmt::format("the wall is held at {}, but the file starts it at {}", held, a.temp));
+    }
+    for (int k = 0; k < data.concentrations; ++k) {
+      const std::string key = fmt::format("conc{}", k + 1);
+      const double held = sp.own.at(key), c = a.conc[static_cast<std::size_t>(k)];
+      if (sp.frozen && sp.own.at("solute_wall") > 0.5 && c != held)
+        refuse(key, fmt::format("the solute wall is held at {}, but the file starts it at {}", held, c));
     }
     if (data.has_velocities) {
       p.vx[i] = data.velocities[i][0];

@@ -114,17 +114,8 @@ void install_edpd(Installation& in) {
                                     pair_law(spec.pair_style).style),
                         "pair.style");
   } else if (p.enabled("temp")) {
-    // Temperatures from a data file (atom style edpd): a wall held at a temperature must start at it.
+    // Temperatures from a data file (atom style edpd; engine/initial_state.cpp checked them).
     p.enable("temp_rate");
-    for (std::size_t i = 0; i < p.n_local; ++i) {
-      const auto k = static_cast<std::size_t>(p.species[i]);
-      const double held = spec.species[k].own.at("temperature");
-      if (s->frozen[k] && held > 0 && p.temp[i] != held)
-        throw ConfigError(fmt::format("species[{}].temperature: the wall is held at {}, but the data file gives "
-                                      "particle {} the temperature {}",
-                                      k, held, p.id[i], p.temp[i]),
-                          fmt::format("species[{}].temperature", k));
-    }
   } else {
     p.enable("temp");
     p.enable("temp_rate");

@@ -210,20 +210,7 @@ void install_tdpd(Installation& in) {
       continue;
     }
     p.enable(rates);
-    if (p.enabled(field)) {
-      // From a data file (atom style tdpd): a solute wall's particles must hold the wall's value.
-      const double* c = conc(p, k);
-      for (std::size_t i = 0; i < p.n_local; ++i) {
-        const auto sp = static_cast<std::size_t>(p.species[i]);
-        const double held = s->start[sp][static_cast<std::size_t>(k)];
-        if (s->frozen[sp] && spec.species[sp].own.at("solute_wall") > 0.5 && c[i] != held)
-          throw ConfigError(fmt::format("species[{}].conc{}: the solute wall is held at {}, but the data file gives "
-                                        "particle {} the concentration {}",
-                                        sp, k + 1, held, p.id[i], c[i]),
-                            fmt::format("species[{}].conc{}", sp, k + 1));
-      }
-      continue;
-    }
+    if (p.enabled(field)) continue;  // from a data file (atom style tdpd; engine/initial_state.cpp checked it)
     p.enable(field);
     double* c = conc(p, k);
     for (std::size_t i = 0; i < p.n_local; ++i)
