@@ -196,13 +196,16 @@ struct EdpdLaw {
       if constexpr (W == WeightKind::General) {
         Real s = p.s * edpd_poly(p.s_t, theta);
         s = s > Real(0.01) ? s : Real(0.01);
-        wd = std::pow(om, s);
-        wr = std::pow(om, Real(0.5) * s);
+        wr = std::pow(om, Real(0.5) * s);  // one power: w_D = w_R^2
+        wd = wr * wr;
       } else {
         dpd_weights<W>(om, p.s, wd, wr);
       }
       const Real sigma = std::sqrt(Real(4) * p.gamma * ti * tj / (ti + tj));
-      const Real amp = p.a_t == Real(0) ? p.a : p.a * std::pow(tbar * p.inv_kt, p.a_t);
+      // (Tbar/kT)^{a_t}: a_t = 1 (Li et al. 2014's choice, LAMMPS's example) and 0 without a power.
+      const Real amp = p.a_t == Real(0)   ? p.a
+                       : p.a_t == Real(1) ? p.a * (tbar * p.inv_kt)
+                                          : p.a * std::pow(tbar * p.inv_kt, p.a_t);
       PairForceT<Real> out;
       out.fc = amp * wc;
       out.energy = Real(0.5) * amp * p.rc * wc * wc;
