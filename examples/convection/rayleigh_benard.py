@@ -24,7 +24,7 @@ dT = 0.2 (ratio 0 is pure conduction), each into OUT/ratio_<r>, and from each ru
 Writes OUT/rayleigh_benard.json and, with --png, Nu against Ra with the fit and the rolls of the
 strongest run (its binned fluid temperature and mean flow). --check exits 1 unless the onset lies within
 20% of 1708 and the runs below 0.8 x 1708 show Nu - 1 < 0.05. --min-nu NU (the short version CI runs:
---ratios 0 2.5 --steps 30000 --min-nu 1.2) exits 1 unless the run of the largest ratio reaches Nu >= NU
+--ratios 0 2.5 --steps 20000 --min-nu 1.2) exits 1 unless the run of the largest ratio reaches Nu >= NU
 and the runs below 0.8 x 1708 show Nu - 1 < 0.05, without fitting an onset.
 """
 import argparse
