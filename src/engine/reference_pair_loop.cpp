@@ -37,9 +37,10 @@ void for_each_pair(const ParticleData& p, const Box& box, double cutoff, Visit&&
 
 // The same pairs, visited in the same order (i ascending, then j ascending) with the same arithmetic,
 // found through cells at least `cutoff` wide instead of by trying every pair: O(N) for the analyses
-// that run this loop during a simulation. Falls back to the double loop when an axis has fewer than
-// three cells (a neighbour cell would then be visited twice through the periodic wrap), and with
-// Lees-Edwards images (whose shifted neighbour cells this binning does not follow).
+// that run this loop during a simulation. An axis with fewer than three cells (a thin box) visits each
+// distinct neighbour cell once (through the periodic wrap the cells -1 and +1 can be the same one). Falls
+// back to the double loop with Lees-Edwards images (whose shifted neighbour cells this binning does not
+// follow).
 template <class Visit>
 void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, Visit&& visit) {
   const std::size_t n = p.n_local;
@@ -50,8 +51,7 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
     // Cells a little wider than the cutoff, so that rounding in the cell index can never put two
     // particles closer than the cutoff two cells apart.
     const double cells = cutoff > 0 ? std::floor(box.length(d) / cutoff * (1.0 - 1e-9)) : 0.0;
-    nc[d] = static_cast<int>(std::min(cells, 1e6));
-    if (nc[d] < 3) return for_each_pair(p, box, cutoff, visit);
+    nc[d] = std::max(1, static_cast<int>(std::min(cells, 1e6)));
   }
   // A few particles in a large box: wider cells, so that the cell arrays stay of the order of the
   // particle count (wider cells only add candidates).
@@ -59,7 +59,7 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
   const double total = static_cast<double>(nc[0]) * nc[1] * nc[2];
   if (total > limit) {
     const double f = std::cbrt(total / limit);
-    for (int d = 0; d < 3; ++d) nc[d] = std::max(3, static_cast<int>(nc[d] / f));
+    for (int d = 0; d < 3; ++d) nc[d] = std::max(std::min(nc[d], 3), static_cast<int>(nc[d] / f));
   }
   for (int d = 0; d < 3; ++d) inv_w[d] = nc[d] / box.length(d);
   auto coord = [&](double v, int d) {  // positions may sit a hair outside a bounded box
@@ -91,18 +91,23 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
   std::vector<Near> near;
   for (std::size_t i = 0; i < n; ++i) {
     near.clear();
-    for (int oz = -1; oz <= 1; ++oz)
-      for (int oy = -1; oy <= 1; ++oy)
-        for (int ox = -1; ox <= 1; ++ox) {
-          int c[3] = {at[i][0] + ox, at[i][1] + oy, at[i][2] + oz};
-          bool skip = false;
-          for (int d = 0; d < 3; ++d) {
-            if (c[d] >= 0 && c[d] < nc[d]) continue;
-            if (!box.periodic[static_cast<std::size_t>(d)]) skip = true;  // no cell beyond a bounded face
-            c[d] = (c[d] + nc[d]) % nc[d];
-          }
-          if (skip) continue;
-          const std::size_t k = cell(c[0], c[1], c[2]);
+    // The distinct neighbour cell coordinates along each axis (none beyond a bounded face).
+    int nb[3][3], count[3];
+    for (int d = 0; d < 3; ++d) {
+      count[d] = 0;
+      for (int o = -1; o <= 1; ++o) {
+        int c = at[i][static_cast<std::size_t>(d)] + o;
+        if (c < 0 || c >= nc[d]) {
+          if (!box.periodic[static_cast<std::size_t>(d)]) continue;
+          c = (c + nc[d]) % nc[d];
+        }
+        if (std::find(nb[d], nb[d] + count[d], c) == nb[d] + count[d]) nb[d][count[d]++] = c;
+      }
+    }
+    for (int az = 0; az < count[2]; ++az)
+      for (int ay = 0; ay < count[1]; ++ay)
+        for (int ax = 0; ax < count[0]; ++ax) {
+          const std::size_t k = cell(nb[0][ax], nb[1][ay], nb[2][az]);
           for (std::uint32_t m = start[k]; m < start[k + 1]; ++m) {
             const std::uint32_t j = members[m];
             if (j <= i) continue;

@@ -398,7 +398,8 @@ TEST(PairLoop, ExtremeForcesConvertLikeTheReference) {
 
 // The analyses' pair loop (cells) must visit exactly the pairs of the brute-force loop, in the same
 // order and with the same displacements, on periodic and bounded boxes, with cells exactly as wide as
-// the cutoff (box lengths that are multiples of it) and with too few cells (the double loop then).
+// the cutoff (box lengths that are multiples of it) and on thin axes of one or two cells (each distinct
+// neighbour cell once), periodic and bounded.
 TEST(PairLoop, BinnedReferencePairsAreTheBruteForcePairs) {
   struct Case {
     Box box;
@@ -407,9 +408,11 @@ TEST(PairLoop, BinnedReferencePairsAreTheBruteForcePairs) {
   };
   Case periodic{Box{{9.0, 7.0, 6.0}, {true, true, true}}, 1.0, 1000};
   Case bounded{Box{{8.0, 6.5, 7.0}, {true, false, true}}, 1.2, 1000};
-  Case thin{Box{{6.0, 2.5, 6.0}, {true, true, true}}, 1.0, 1000};  // two cells along y: brute force
+  Case thin{Box{{6.0, 2.5, 6.0}, {true, true, true}}, 1.0, 1000};  // two cells along y
+  Case thinner{Box{{6.0, 1.5, 6.0}, {true, true, true}}, 1.0, 1000};  // one cell along y
+  Case thin_bounded{Box{{6.0, 2.5, 6.0}, {true, false, true}}, 1.0, 1000};  // two cells, bounded
   Case sparse{Box{{40.0, 40.0, 40.0}, {true, true, true}}, 1.5, 30};  // 26^3 cells coarsened to 22^3
-  for (const Case& c : {periodic, bounded, thin, sparse}) {
+  for (const Case& c : {periodic, bounded, thin, thinner, thin_bounded, sparse}) {
     ParticleData p = test::random_particles(c.box, 900, 17, 2, 7, 5);
     // Particles on cell faces and on the box faces, where rounding decides the cell.
     for (std::size_t k = 0; k < 60; ++k) {
