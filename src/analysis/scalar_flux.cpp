@@ -67,8 +67,10 @@ const keys::KeyTable<FluxSpec>& flux_keys() {
         .unit("r_c");
     t.integer("start", &T::start, {0}, "First sampled step (let the profile reach its steady state before it).");
     t.integer("every", &T::every, {1},
-              "Steps between samples of the planes (a pass over the pairs near them); the walls' exchange is read at "
-              "every step.");
+              "Steps between samples of the planes; the walls' exchange is read at every step. A sample gathers the "
+              "system on rank 0 and passes over its pairs (serial): at every = 10 a 2,160-particle run took 1.5 "
+              "times as long as without the analysis (docs/performance.md, session 18); sample less often in large "
+              "systems.");
     t.integer("blocks", &T::blocks, {2, 1000}, "Blocks of the error bars (each its own flux, gradient, conductivity).");
     return t;
   }();
