@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analysis/surface_tension.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json_number.hpp"
 #include "mesodpd/config_error.hpp"
@@ -23,19 +24,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRateScale = 4294967296.0;  // 2^32: the fixed point of the walls' per-step sums
 __extension__ using Int128 = __int128;
 
-// The mean of per-block values and its standard error.
-FluxEstimate over_blocks(const std::vector<double>& v, double pooled) {
-  FluxEstimate e{pooled, kNaN};
-  if (v.size() < 2) return e;
-  const auto n = static_cast<double>(v.size());
-  double mean = 0;
-  for (double x : v) mean += x;
-  mean /= n;
-  double ss = 0;
-  for (double x : v) ss += (x - mean) * (x - mean);
-  e.error = std::sqrt(ss / (n - 1.0) / n);
-  return e;
-}
+// The pooled value with the standard error of the per-block values (block_mean with one value a block).
+FluxEstimate over_blocks(const std::vector<double>& v, double pooled) { return {pooled, block_mean(v, v.size()).err}; }
 
 std::string pm(const FluxEstimate& e) { return fmt::format("{:.5g} +- {:.2g}", e.value, e.error); }
 
@@ -388,38 +378,38 @@ ScalarFluxStage::ScalarFluxStage(const FluxSpec& spec, const std::array<double, 
       rate_field_(std::move(rate_field)),
       exchange_(std::move(exchange)),
       snapshot_(snapshot),
-      capacity_(capacity),
-      frozen_(frozen) {
+      capacity_(capacity) {
   const std::uint64_t from = std::max(spec.start, spec.every);
   first_ = (from + spec.every - 1) / spec.every * spec.every;
-  for (std::size_t s = 0; s < frozen_.size(); ++s)
-    if (frozen_[s]) walls_.push_back(s);
-  acc_.assign(walls_.size(), 0.0);
+  // The walls are the frozen species, numbered in species order (ScalarFlux's rows).
+  int walls = 0;
+  for (std::uint8_t f : frozen) wall_of_.push_back(f ? walls++ : -1);
+  acc_.assign(static_cast<std::size_t>(walls), 0.0);
   if (comm.root()) a_.emplace(spec, box, periodic, std::move(capacity), std::move(frozen), std::move(names));
 }
 
 void ScalarFluxStage::observe(const StepContext& ctx) {
   // The interval before a sample: the `every` steps that end with it.
   if (ctx.step + spec_.every <= first_) return;
-  if (!walls_.empty()) {
+  if (!acc_.empty()) {
     const ParticleData& p = ctx.particles;
     const std::vector<double>* rate = p.doubles(rate_field_);
     if (rate == nullptr) throw std::logic_error("ScalarFluxStage: the particles hold no " + rate_field_);
-    std::vector<Int128> sums(walls_.size(), 0);
+    std::vector<Int128> sums(acc_.size(), 0);
     for (std::size_t i = 0; i < p.n_local; ++i) {
       const auto sp = static_cast<std::size_t>(p.species[i]);
-      if (!frozen_[sp]) continue;
-      const auto w = static_cast<std::size_t>(std::find(walls_.begin(), walls_.end(), sp) - walls_.begin());
-      sums[w] += static_cast<Int128>(std::llround(-capacity_[sp] * (*rate)[i] * kRateScale));
+      if (wall_of_[sp] < 0) continue;
+      sums[static_cast<std::size_t>(wall_of_[sp])] +=
+          static_cast<Int128>(std::llround(-capacity_[sp] * (*rate)[i] * kRateScale));
     }
     ctx.comm.sum(std::span<Int128>(sums));
-    for (std::size_t w = 0; w < walls_.size(); ++w) acc_[w] += static_cast<double>(sums[w]) / kRateScale;
+    for (std::size_t w = 0; w < acc_.size(); ++w) acc_[w] += static_cast<double>(sums[w]) / kRateScale;
   }
   ++acc_steps_;
   if (ctx.step < first_ || ctx.step % spec_.every != 0) return;
   const ParticleData& all = snapshot_.of(ctx);  // collective
-  std::vector<double> means(walls_.size(), 0.0);
-  for (std::size_t w = 0; w < walls_.size(); ++w) means[w] = acc_[w] / static_cast<double>(acc_steps_);
+  std::vector<double> means(acc_.size(), 0.0);
+  for (std::size_t w = 0; w < acc_.size(); ++w) means[w] = acc_[w] / static_cast<double>(acc_steps_);
   std::fill(acc_.begin(), acc_.end(), 0.0);
   acc_steps_ = 0;
   if (a_) a_->sample(all, ctx.box, exchange_, means);

@@ -104,7 +104,6 @@ class ScalarFlux {
   std::vector<double> bin_centres() const;
   std::vector<double> profile_density() const;
   std::vector<double> profile_mean() const;
-  const std::vector<std::size_t>& wall_species() const { return walls_; }
 
   // flux.csv, flux.json and flux_profile.csv in dir; returns the summary.
   std::string write(const std::filesystem::path& dir) const;
@@ -155,8 +154,7 @@ class ScalarFluxStage final : public RootAnalysisStage<ScalarFlux> {
   SystemSnapshot& snapshot_;
   std::uint64_t first_;
   std::vector<double> capacity_;
-  std::vector<std::uint8_t> frozen_;
-  std::vector<std::size_t> walls_;
+  std::vector<int> wall_of_;  // by species: its wall's index, -1 for a mobile species
   std::vector<double> acc_;  // the walls' rates summed over the steps of the current interval (root)
   std::uint64_t acc_steps_ = 0;
 };

@@ -13,7 +13,6 @@
 
 #include <fmt/format.h>
 
-#include "analysis/kinetic_theory.hpp"
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
@@ -100,10 +99,9 @@ std::string buoyancy_numbers(const SimulationSpec& spec) {
       lo = std::min(lo, sp.own.at("temperature"));
       hi = std::max(hi, sp.own.at("temperature"));
     }
-    const std::string conc = b->field;
-    if (!heat && sp.own.count("solute_wall") && sp.own.at("solute_wall") > 0.5 && sp.own.count(conc)) {
-      lo = std::min(lo, sp.own.at(conc));
-      hi = std::max(hi, sp.own.at(conc));
+    if (!heat && sp.own.count("solute_wall") && sp.own.at("solute_wall") > 0.5 && sp.own.count(b->field)) {
+      lo = std::min(lo, sp.own.at(b->field));
+      hi = std::max(hi, sp.own.at(b->field));
     }
   }
   const double g = std::sqrt(b->gravity[0] * b->gravity[0] + b->gravity[1] * b->gravity[1] + b->gravity[2] * b->gravity[2]);
@@ -123,19 +121,8 @@ std::string buoyancy_numbers(const SimulationSpec& spec) {
   const double depth = planes.size() >= 2 ? *std::max_element(planes.begin(), planes.end()) -
                                                 *std::min_element(planes.begin(), planes.end())
                                           : spec.box[static_cast<std::size_t>(axis)];
-  const double n = mobile_density(spec);
-  const PairSpec& p = spec.pair(0, 0);
-  const double nu = kinetic_viscosity(n, p.gamma, spec.kT, p.rd, p.s) / n;
-  const double d_self = kinetic_diffusivity(n, p.gamma, spec.kT, p.rd, p.s);
-  double d_exchange = 0;
-  if (heat) {
-    const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
-    d_exchange = exchange_diffusivity(n, spec.species.front().own.at("cv") * p.value("kappa"), rct, p.value("st"));
-  } else {
-    const std::string k(1, b->field[4]);
-    const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
-    d_exchange = exchange_diffusivity(n, p.value("kappa" + k), rcc, p.value("sc" + k));
-  }
+  const auto [nu, d_self] = kinetic_fluid(spec);
+  const double d_exchange = field_exchange_diffusivity(spec, b->field);
   const double ra = g * std::abs(b->beta) * (hi - lo) * depth * depth * depth / (nu * (d_self + d_exchange));
   return fmt::format(
       "buoyancy: Rayleigh number g beta dX L^3 / (nu D) = {:.4g} (dX = {:.4g} between the walls, L = {:.4g}{}; nu = "

@@ -82,14 +82,13 @@ void half_step(StepContext& ctx, const EdpdSpecies& s) {
 
 std::string edpd_numbers(const SimulationSpec& spec) {
   if (pair_law(spec.pair_style).style != EdpdLaw::kStyle || spec.species.empty()) return "";
-  const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
   const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
   const double cv = spec.species.front().own.at("cv");
   // Linearised, dT_i/dt = -C_v kappa sum_j w_CT (T_i - T_j): the exchange coefficient is C_v kappa.
   return "eDPD (species " + spec.species.front().name + "):\n" +
          scalar_numbers_line(spec, fmt::format("heat (C_v kappa = {}, r_cT = {})", cv * p.value("kappa"), rct),
-                             exchange_diffusivity(n, cv * p.value("kappa"), rct, p.value("st")), "Prandtl number");
+                             field_exchange_diffusivity(spec, "temp"), "Prandtl number");
 }
 
 void install_edpd(Installation& in) {

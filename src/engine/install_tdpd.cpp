@@ -162,15 +162,13 @@ std::string tdpd_numbers(const SimulationSpec& spec) {
   if (pair_law(spec.pair_style).style != TdpdLaw::kStyle || spec.species.empty()) return "";
   const TdpdSpec* t = spec.model<TdpdSpec>("tdpd");
   const int solutes = t ? t->solutes : 1;
-  const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
   const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
   std::string out = "tDPD (species " + spec.species.front().name + "):\n";
-  for (int k = 1; k <= solutes; ++k) {
-    const double kappa = p.value(fmt::format("kappa{}", k)), sc = p.value(fmt::format("sc{}", k));
-    out += scalar_numbers_line(spec, fmt::format("solute {} (kappa = {}, r_cc = {})", k, kappa, rcc),
-                               exchange_diffusivity(n, kappa, rcc, sc), "Schmidt number");
-  }
+  for (int k = 1; k <= solutes; ++k)
+    out += scalar_numbers_line(
+        spec, fmt::format("solute {} (kappa = {}, r_cc = {})", k, p.value(fmt::format("kappa{}", k)), rcc),
+        field_exchange_diffusivity(spec, fmt::format("conc{}", k)), "Schmidt number");
   return out;
 }
 

@@ -122,6 +122,26 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
     for (const Near& q : near) visit(i, q.j, q.dx, q.dy, q.dz, q.r);
   }
 }
+// The part of a pair's input that its geometry gives: r, r_hat . v_ij (with the Lees-Edwards velocity
+// of j's image, from the image count along the gradient axis) and, for a non-central law, d = r_i - r_j
+// and v_ij as vectors. Shared by the reference loops so that they build the same inputs.
+template <class Law>
+PairInput<double> geometry_input(const ParticleData& p, const Box& box, std::size_t i, std::size_t j, double dx,
+                                 double dy, double dz, double r) {
+  PairInput<double> in;
+  in.r = r;
+  double raw[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
+  const double n_img = box_displacement(box, raw);
+  double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
+  if (box.sheared()) dv[box.shear.flow] -= n_img * box.shear.velocity;
+  in.rv = (dx * dv[0] + dy * dv[1] + dz * dv[2]) * (r > 0 ? 1.0 / r : 0.0);
+  if constexpr (law_non_central<Law>) {
+    in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
+    for (int c = 0; c < 3; ++c) in.dv[c] = dv[c];
+  }
+  return in;
+}
+
 }  // namespace
 
 void reference_pairs(const ParticleData& p, const Box& box, double cutoff, bool binned,
@@ -156,14 +176,7 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
             if (p.body[i] != 0 && p.body[j] != 0) return;
             const auto& pp = lt.table(p.species[i], p.species[j]);
             const double inv_r = r > 0 ? 1.0 / r : 0.0;
-            PairInput<double> in;
-            in.r = r;
-            // The image count along the gradient axis gives the Lees-Edwards velocity of j's image.
-            double raw[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
-            const double n_img = box_displacement(box, raw);
-            double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
-            if (box.sheared()) dv[box.shear.flow] -= n_img * box.shear.velocity;
-            in.rv = (dx * dv[0] + dy * dv[1] + dz * dv[2]) * inv_r;
+            PairInput<double> in = geometry_input<Law>(p, box, i, j, dx, dy, dz, r);
             in.inv_sqrt_dt = 1.0 / std::sqrt(dt);
             if (rho != nullptr) {
               in.rho_i = rho[i];
@@ -177,10 +190,6 @@ void reference_forces(const ParticleData& p, const Box& box, const PairLawTables
               }
             } else {
               in.xi = pair_noise(noise.seed, step, p.id[i], p.id[j], noise.kind);
-            }
-            if constexpr (law_non_central<Law>) {
-              in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
-              for (int c = 0; c < 3; ++c) in.dv[c] = dv[c];
             }
             if constexpr (law_noise_words<Law> > 0)
               pair_noise_words(noise.seed, step, p.id[i], p.id[j], noise.kind, in.xm, law_noise_words<Law>);
@@ -311,23 +320,12 @@ void reference_scalar_exchange(const ParticleData& p, const Box& box, const Pair
                                                                    double dy, double dz, double r) {
               const bool wi = p.body[i] != 0, wj = p.body[j] != 0;
               if ((wi && wj) || !want(i, j, dx, dy, dz)) return;
-              PairInput<double> in;  // xi, xs and xm stay 0: the random terms' mean
-              in.r = r;
-              const double inv_r = r > 0 ? 1.0 / r : 0.0;
-              double dv[3] = {p.vx[i] - p.vx[j], p.vy[i] - p.vy[j], p.vz[i] - p.vz[j]};
-              if (box.sheared()) {
-                double raw[3] = {p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]};
-                dv[box.shear.flow] -= box_displacement(box, raw) * box.shear.velocity;
-              }
-              in.rv = (dx * dv[0] + dy * dv[1] + dz * dv[2]) * inv_r;
+              // xi, xs and xm stay 0: the random terms' mean.
+              PairInput<double> in = geometry_input<Law>(p, box, i, j, dx, dy, dz, r);
               in.inv_sqrt_dt = 1.0;
               for (int c = 0; c <= channel; ++c) {
                 in.si[c] = (*sc[c])[i];
                 in.sj[c] = (*sc[c])[j];
-              }
-              if constexpr (law_non_central<Law>) {
-                in.d[0] = dx, in.d[1] = dy, in.d[2] = dz;
-                for (int c = 0; c < 3; ++c) in.dv[c] = dv[c];
               }
               const PairForceT<double> pf = eval(lt.table(p.species[i], p.species[j]), in);
               const double qi = capacity[static_cast<std::size_t>(p.species[i])] * pf.qi[channel];

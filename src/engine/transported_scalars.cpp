@@ -39,12 +39,27 @@ double exchange_diffusivity(double n, double k, double rc, double s) {
   return 16.0 * std::numbers::pi * n * k * std::pow(rc, 5) * std::tgamma(s + 1.0) / std::tgamma(s + 6.0);
 }
 
-std::string scalar_numbers_line(const SimulationSpec& spec, const std::string& what, double d_kin,
-                                const std::string& number) {
+double field_exchange_diffusivity(const SimulationSpec& spec, const std::string& field) {
   const double n = mobile_density(spec);
   const PairSpec& p = spec.pair(0, 0);
-  const double d_self = kinetic_diffusivity(n, p.gamma, spec.kT, p.rd, p.s);
-  const double nu = kinetic_viscosity(n, p.gamma, spec.kT, p.rd, p.s) / n;  // unit mass
+  if (field == "temp") {
+    const double rct = p.value("rct") > 0 ? p.value("rct") : p.rc;
+    return exchange_diffusivity(n, spec.species.front().own.at("cv") * p.value("kappa"), rct, p.value("st"));
+  }
+  const std::string k = field.substr(4);  // conc<k>
+  const double rcc = p.value("rcc") > 0 ? p.value("rcc") : p.rc;
+  return exchange_diffusivity(n, p.value("kappa" + k), rcc, p.value("sc" + k));
+}
+
+KineticFluid kinetic_fluid(const SimulationSpec& spec) {
+  const double n = mobile_density(spec);
+  const PairSpec& p = spec.pair(0, 0);
+  return {kinetic_viscosity(n, p.gamma, spec.kT, p.rd, p.s) / n, kinetic_diffusivity(n, p.gamma, spec.kT, p.rd, p.s)};
+}
+
+std::string scalar_numbers_line(const SimulationSpec& spec, const std::string& what, double d_kin,
+                                const std::string& number) {
+  const auto [nu, d_self] = kinetic_fluid(spec);
   // Both estimates are mean-field upper bounds: the conservative repulsion lowers D_self (0.30 measured
   // at a = 25, rho = 3, gamma = 4.5, kinetic theory 0.53), and the exchange of a disordered fluid
   // reaches 0.4-0.8 of d_kin (docs/validation.md 8 and 8b).

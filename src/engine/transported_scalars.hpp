@@ -27,6 +27,17 @@ double mobile_density(const SimulationSpec& spec);
 // is 2 pi n k r_c^5 / 315 for s = 2 (docs/physics.md, "eDPD" and "tDPD").
 double exchange_diffusivity(double n, double k, double rc, double s);
 
+// The mean-field exchange diffusivity of `field` in the first species' fluid: exchange_diffusivity with
+// eDPD's C_v kappa over r_cT and s_T for "temp", tDPD's kappa<k> over r_cc and s_C<k> for "conc<k>".
+double field_exchange_diffusivity(const SimulationSpec& spec, const std::string& field);
+
+// The first species' fluid by kinetic theory (seed 000 Eq. 16, g(r) = 1, unit mass): its kinematic
+// viscosity and self-diffusion, both above what the a = 25 fluid shows (docs/validation.md 4).
+struct KineticFluid {
+  double nu = 0, d_self = 0;
+};
+KineticFluid kinetic_fluid(const SimulationSpec& spec);
+
 // The lines `mesodpd check` prints for a transported scalar of the first species' fluid: its mean-field
 // exchange diffusivity `d_kin`, what the particles' motion adds, and the dimensionless number
 // `number` (Prandtl or Schmidt) = nu / D with nu from seed 000 Eq. 16 (kinetic theory).
