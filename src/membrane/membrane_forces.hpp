@@ -1,0 +1,103 @@
+// The forces of a triangulated elastic membrane (red blood cell models of Fedosov, Caswell & Karniadakis,
+// Biophys. J. 98, 2215 (2010) and Comput. Methods Appl. Mech. Eng. 199, 1937 (2010), cited by seed 000
+// Sect. 4.4 and seed 002 "Red Cells"), each the exact negative gradient of its energy:
+//
+//   in-plane elasticity, per edge of length l (worm-like chain plus a power-law repulsion, WLC-POW):
+//     U = kT l_m/(4p) (3x^2 - 2x^3)/(1 - x) + k_p/((m - 1) l^(m - 1)),  x = l/l_m  (k_p ln-form at m = 1);
+//     l_m = l0/x0 per edge, and k_p set per edge so the force vanishes at its rest length l0 (the
+//     stress-free model: l0 the edge's length in the reference shape), or from the mean l0 for all edges;
+//   bending, per edge shared by two triangles with normals at angle theta (positive where convex):
+//     Kantor-Nelson:  U = k_b [1 - cos(theta - theta0)];
+//     Juelicher:      U = 2 kappa sum_i M_i^2 / A_i,  M_i = 1/4 sum_{edges at i} l theta,  A_i = 1/3 sum of
+//                     the areas of the triangles at i (integrates kappa/2 (2H)^2: 8 pi kappa for a sphere);
+//   area and volume:  U = k_a (A - A0)^2/(2 A0) + sum_t k_d (A_t - A0_t)^2/(2 A0_t) + k_v (V - V0)^2/(2 V0).
+//
+// Forces are sums of gradients of lengths, dihedral angles, triangle areas and the enclosed volume, all
+// translation and rotation invariant, so the total force and torque are zero.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "membrane/mesh.hpp"
+
+namespace mesodpd::membrane {
+
+enum class Bending { None, KantorNelson, Juelicher };
+
+struct Parameters {
+  double kT = 1.0;           // the energy scale of the worm-like chain
+  double persistence = 0.0;  // p; 0: no WLC-POW bonds
+  double x0 = 1.0 / 2.2;     // l0 / l_m (Fedosov et al. 2010 use l_m = 2.2 l0)
+  double m = 2.0;            // exponent of the power-law repulsion
+  bool stress_free = true;   // per-edge rest lengths (and triangle areas) from the reference shape
+  Bending bending = Bending::None;
+  double kb = 0.0, theta0 = 0.0;  // Kantor-Nelson
+  double kappa = 0.0;             // Juelicher
+  double ka = 0.0, kd = 0.0, kv = 0.0;
+  double area0 = 0.0, volume0 = 0.0;  // targets A0, V0; 0: the reference shape's
+};
+
+struct Energies {
+  double bond = 0, bend = 0, area_local = 0, area_global = 0, volume = 0;
+  double total() const { return bond + bend + area_local + area_global + volume; }
+};
+
+// The state of a membrane at rest: its mesh and everything its forces compare with.
+class CellModel {
+ public:
+  // `reference`: the stress-free shape, in the mesh's vertex order (default: the mesh's own vertices).
+  CellModel(Mesh mesh, Parameters params, const std::vector<Vec3>* reference = nullptr, const std::string& source = "mesh");
+  const Mesh& mesh() const { return mesh_; }
+  const Parameters& params() const { return params_; }
+  const std::vector<Hinge>& hinges() const { return hinges_; }
+  double area0() const { return area0_; }
+  double volume0() const { return volume0_; }
+  double mean_length() const { return mean_l0_; }
+  std::size_t vertex_count() const { return mesh_.vertices.size(); }
+
+  // Adds the membrane forces on the positions x (unwrapped, in vertex order) to f and returns the
+  // energies; or, where an edge reaches its maximum length l_m, returns nothing and names the edge in
+  // `broken` (the hinge index) and adds no force.
+  std::optional<Energies> forces(const std::vector<Vec3>& x, std::vector<Vec3>& f, std::size_t* broken = nullptr) const;
+  Energies energies(const std::vector<Vec3>& x) const;
+
+  // The maximum length of edge k (hinge k's edge).
+  double max_length(std::size_t k) const { return l0_[k] / params_.x0; }
+
+ private:
+  Mesh mesh_;
+  Parameters params_;
+  std::vector<Hinge> hinges_;
+  std::vector<double> l0_, kp_, area0_t_;  // per hinge (edge), per triangle
+  double area0_ = 0, volume0_ = 0, mean_l0_ = 0;
+};
+
+// The force magnitude dU/dl of a WLC-POW edge (positive: pulls the ends together) and its energy.
+double wlc_pow_dudl(double l, double lm, double kT, double p, double kp, double m);
+double wlc_pow_energy(double l, double lm, double kT, double p, double kp, double m);
+// k_p that makes the WLC-POW force vanish at l0.
+double wlc_pow_kp(double l0, double x0, double kT, double p, double m);
+
+// The linear moduli of a stress-free triangular WLC-POW network of rest length l0 (Fedosov et al.
+// 2010): shear mu0 = sqrt(3)/4 U''(l0) (where U'(l0) = 0; the same as their expression
+// sqrt(3) kT/(4 p l_m x0) [x0/(2(1-x0)^3) - 1/(4(1-x0)^2) + 1/4] + sqrt(3) k_p (m+1)/(4 l0^(m+1))),
+// area compression K = 2 mu0 + k_a + k_d, Young's modulus Y = 4 K mu0 / (K + mu0).
+double shear_modulus(double l0, double x0, double kT, double p, double m);
+// The persistence length p that gives the shear modulus mu0 (the inverse of the above).
+double persistence_for(double mu0, double l0, double x0, double kT, double m);
+// Kantor-Nelson's k_b for a bending rigidity kappa: k_b = 2 kappa / sqrt(3) (the continuum limit on a
+// regular triangulation of a sphere).
+double kantor_nelson_kb(double kappa);
+
+// Shape measures of a cell: centroid, the extents along an axis and across it, area, volume and the
+// asphericity of the gyration tensor ((l1-l2)^2 + (l2-l3)^2 + (l1-l3)^2) / (2 (l1+l2+l3)^2).
+struct Shape {
+  Vec3 centroid;
+  double axial = 0;       // max - min of the vertices' coordinate along `axis`
+  double transverse = 0;  // largest distance between two vertices projected on the plane normal to `axis`
+  double area = 0, volume = 0, asphericity = 0;
+};
+Shape measure(const Mesh& mesh, const std::vector<Vec3>& x, int axis);
+
+}  // namespace mesodpd::membrane
