@@ -257,3 +257,71 @@ Shape measure(const Mesh& mesh, const std::vector<Vec3>& x, int axis) {
 }
 
 }  // namespace mesodpd::membrane
+
+namespace mesodpd::membrane {
+
+Stretched stretch(const CellModel& cell, const std::vector<Vec3>& start, double force, double fraction, int axis,
+                  double tolerance, std::size_t max_steps) {
+  const std::size_t n = start.size();
+  auto along = [axis](Vec3 p) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
+  // The gripped vertices, by their place along the axis in the mesh's own shape (ties by index).
+  std::vector<std::uint32_t> order(n);
+  for (std::uint32_t i = 0; i < n; ++i) order[i] = i;
+  const std::vector<Vec3>& ref = cell.mesh().vertices;
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return along(ref[a]) < along(ref[b]); });
+  const auto grip = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(fraction * static_cast<double>(n))));
+  Vec3 pull;
+  (axis == 0 ? pull.x : axis == 1 ? pull.y : pull.z) = force / static_cast<double>(grip);
+  std::vector<Vec3> external(n);
+  for (std::size_t k = 0; k < grip; ++k) {
+    external[order[k]] = -pull;
+    external[order[n - 1 - k]] = pull;
+  }
+  Stretched out;
+  out.x = start;
+  std::vector<Vec3> v(n), f(n);
+  double dt = 1e-4, alpha = 0.1;
+  const double dt_max = 1e-2;
+  std::size_t positive = 0;
+  for (std::size_t step = 0; step < max_steps; ++step) {
+    std::fill(f.begin(), f.end(), Vec3{});
+    std::size_t broken = 0;
+    if (!cell.forces(out.x, f, &broken))
+      throw MeshError(fmt::format("stretch: at force {} the edge of hinge {} reached its maximum length", force, broken));
+    double residual = 0, power = 0, vv = 0, ff = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      f[i] += external[i];
+      residual = std::max(residual, dot(f[i], f[i]));
+      power += dot(f[i], v[i]);
+      vv += dot(v[i], v[i]);
+      ff += dot(f[i], f[i]);
+    }
+    out.residual = std::sqrt(residual);
+    out.steps = step;
+    if (out.residual < tolerance) {
+      out.shape = measure(cell.mesh(), out.x, axis);
+      return out;
+    }
+    if (power > 0) {
+      const double mix = ff > 0 ? alpha * std::sqrt(vv / ff) : 0.0;
+      for (std::size_t i = 0; i < n; ++i) v[i] = (1 - alpha) * v[i] + mix * f[i];
+      if (++positive > 5) {
+        dt = std::min(dt * 1.1, dt_max);
+        alpha *= 0.99;
+      }
+    } else {
+      std::fill(v.begin(), v.end(), Vec3{});
+      positive = 0;
+      dt *= 0.5;
+      alpha = 0.1;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] += dt * f[i];
+      out.x[i] += dt * v[i];
+    }
+  }
+  throw MeshError(fmt::format("stretch: no equilibrium at force {} after {} steps (largest net force {})", force,
+                              max_steps, out.residual));
+}
+
+}  // namespace mesodpd::membrane

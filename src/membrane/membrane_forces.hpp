@@ -101,3 +101,22 @@ struct Shape {
 Shape measure(const Mesh& mesh, const std::vector<Vec3>& x, int axis);
 
 }  // namespace mesodpd::membrane
+
+namespace mesodpd::membrane {
+
+// Optical-tweezers stretching at equilibrium (the experiment of Mills et al., Mech. Chem. Biosystems 1,
+// 169 (2004), as Fedosov et al. 2010 simulate it): a total force +F along `axis` spread evenly over the
+// fraction `fraction` of the vertices farthest along it in the reference shape, -F over the same
+// fraction at the other end. The shape minimises E - F (mean position of the first set - that of the
+// second), found by FIRE (Bitzek et al., Phys. Rev. Lett. 97, 170201 (2006)) from `start` until no
+// vertex feels more than `tolerance` of net force. Throws if it does not converge in `max_steps`.
+struct Stretched {
+  std::vector<Vec3> x;
+  Shape shape;
+  std::size_t steps = 0;
+  double residual = 0;  // the largest net force on a vertex at the end
+};
+Stretched stretch(const CellModel& cell, const std::vector<Vec3>& start, double force, double fraction, int axis,
+                  double tolerance, std::size_t max_steps = 2000000);
+
+}  // namespace mesodpd::membrane
