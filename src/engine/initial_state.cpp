@@ -13,6 +13,7 @@
 
 #include "boundary/geometry.hpp"
 #include "engine/blow_up_error.hpp"
+#include "engine/installer.hpp"
 #include "core/philox.hpp"
 #include "io/lammps_data_reader.hpp"
 #include "engine/pair_laws.hpp"
@@ -22,6 +23,15 @@
 namespace mesodpd {
 
 namespace {
+
+// The particles every model places (Model::place), model after model in the list's order.
+std::vector<PlacedParticle> model_particles(const SimulationSpec& spec) {
+  std::vector<PlacedParticle> all;
+  for (const Model& m : models())
+    if (m.place)
+      for (const PlacedParticle& q : m.place(spec)) all.push_back(q);
+  return all;
+}
 
 // Four independent words per (seed, stream, id, sub-draw), from the same generator as the pair noise.
 Philox4x32 particle_bits(std::uint64_t seed, RngStream stream, std::uint32_t id, std::uint32_t draw) {
@@ -312,6 +322,12 @@ void apply_maxwell(const SimulationSpec& spec, const MaxwellShift& shift, Partic
 std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleData& p, const KeepPredicate& keep,
                                  Topology* topology, const std::vector<double>* placed) {
   if (!spec.data_file.empty()) {
+    for (const Model& m : models())
+      if (m.place && !m.place(spec).empty())
+        throw ConfigError(fmt::format("init.lammps_data: the {} model places its own particles, which a data file "
+                                      "cannot be combined with; leave one out",
+                                      m.name),
+                          "init.lammps_data");
     const bool has_velocities = load_data_file(spec, box, p, topology);
     if (spec.velocities == VelocityInit::File && !has_velocities)
       throw ConfigError(fmt::format("init.velocities: \"file\" (the default with init.lammps_data) but {} has no "
@@ -329,7 +345,9 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
     total += s.count;
     if (s.placement == Placement::Lattice) lattice_total += s.count;
   }
-  if (placed && (placed->size() != 3 * total || !spec.molecules.empty()))
+  // Particles the models place (membrane vertices), after the molecules.
+  const std::vector<PlacedParticle> by_models = model_particles(spec);
+  if (placed && (placed->size() != 3 * total || !spec.molecules.empty() || !by_models.empty()))
     throw std::logic_error("make_initial_state: equilibrated positions do not match the species counts");
 
   // Lattice species share one simple-cubic-like grid with at least lattice_total sites, spaced to fill
@@ -376,6 +394,18 @@ std::uint64_t make_initial_state(const SimulationSpec& spec, Box& box, ParticleD
           f(q);
         }
       }
+    }
+    for (const PlacedParticle& m : by_models) {
+      q.id = next_id++;
+      ++i;
+      q.species = m.species;
+      q.mol = m.mol;
+      q.r = m.r;
+      q.image = {0, 0, 0};
+      for (int d = 0; d < 3; ++d)
+        if (box.periodic[static_cast<std::size_t>(d)])
+          wrap_coordinate(q.r[static_cast<std::size_t>(d)], q.image[static_cast<std::size_t>(d)], box.length(d));
+      f(q);
     }
     q.mol = 0;
     q.image = {0, 0, 0};
@@ -468,7 +498,7 @@ std::uint64_t check_initial_state(const SimulationSpec& spec) {
     std::uint64_t n = 0;
     for (const auto& s : spec.species) n += s.count;
     for (const auto& m : spec.molecules) n += m.count * m.beads.size();
-    return n;
+    return n + model_particles(spec).size();
   }
   Box box;
   ParticleData p;
@@ -510,6 +540,16 @@ void assign_maxwell_velocities(const SimulationSpec& spec, ParticleData& p) {
     for (std::size_t i = 0; i < p.n_local; ++i) f(p.id[i], p.species[i]);
   });
   apply_maxwell(spec, shift, p);
+}
+
+std::uint32_t first_placed_id(const SimulationSpec& spec, const std::string& name) {
+  std::uint64_t id = 1;
+  for (const MoleculeSpec& m : spec.molecules) id += m.count * m.beads.size();
+  for (const Model& m : models()) {
+    if (m.name == name) return static_cast<std::uint32_t>(id);
+    if (m.place) id += m.place(spec).size();
+  }
+  throw std::logic_error("first_placed_id: no model named " + name);
 }
 
 }  // namespace mesodpd

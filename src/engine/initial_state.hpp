@@ -2,6 +2,7 @@
 // Maxwell-Boltzmann velocities with zero total momentum (seed 000 Sect. 2.6).
 #pragma once
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/box.hpp"
@@ -41,6 +42,10 @@ std::uint64_t check_initial_state(const SimulationSpec& spec);
 // particle ids and its length: such a bond has an infinite force from the first step. `p` holds every
 // particle (n_local); make_initial_state runs this on a data file's bonds.
 void check_initial_bonds(const SimulationSpec& spec, const Box& box, const ParticleData& p, const Topology& topology);
+
+// The id of the first particle that model `name` places (Model::place, engine/installer.hpp): after the
+// molecules' beads and the particles of the models before it in the list.
+std::uint32_t first_placed_id(const SimulationSpec& spec, const std::string& name);
 
 // Draws Maxwell-Boltzmann velocities at kT, removes the centre-of-mass velocity and rescales so the
 // kinetic temperature (3N - 3 degrees of freedom) is exactly kT.

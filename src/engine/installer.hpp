@@ -5,7 +5,9 @@
 // the objects other models may look up by type. Stages at one point run in registration order, so the
 // list's order is the order of the step's stages.
 #pragma once
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -98,19 +100,31 @@ struct Installation {
 
 using Installer = void (*)(Installation&);
 
+// A particle that a model places in a new run (a membrane's vertex): its species, its unwrapped position
+// and its molecule number (0: none). engine/initial_state.cpp gives the models' particles the ids after
+// the molecules' beads and before the free particles, model after model in the list's order.
+struct PlacedParticle {
+  std::int32_t species = 0;
+  std::array<double, 3> r{0, 0, 0};
+  std::int32_t mol = 0;
+};
+
 // A model as the engine lists it: its installer and, if it declares one, its own config section
 // (include/mesodpd/model_section.hpp), which the schema reads, checks and documents.
 struct Model {
   std::string name;
   Installer install = nullptr;
-  std::function<ModelSection()> section;  // empty: the model reads the shared spec only
+  std::function<ModelSection()> section = {};  // empty: the model reads the shared spec only
   // What `mesodpd check` prints for this model before a run (its estimates: diffusivities, Prandtl and
   // Schmidt numbers), lines ending in '\n'; empty, or returning "", when it has nothing to say.
-  std::function<std::string(const SimulationSpec&)> numbers;
+  std::function<std::string(const SimulationSpec&)> numbers = {};
   // The box's moving periodic images (Lees-Edwards shear, core/box.hpp), for a model that imposes them:
   // read before the particles and the rank grid are made (the flow axis is then never split over
   // ranks), and advanced by Simulation to the time of each step's positions. At most one model.
-  std::function<std::optional<ShearImages>(const SimulationSpec&)> shear;
+  std::function<std::optional<ShearImages>(const SimulationSpec&)> shear = {};
+  // The particles this model places in a new run (not with a data file), a pure function of the spec:
+  // every rank computes the same list, and the installer finds their ids with first_placed_id().
+  std::function<std::vector<PlacedParticle>(const SimulationSpec&)> place = {};
 };
 
 // The models, in order: those of engine/installers.cpp with any registered at run time among them.

@@ -702,7 +702,11 @@ void validate_engine_limits(SimulationSpec& spec) {
                          std::numeric_limits<std::uint32_t>::max()));
       }
     }
-    // A run of nothing would end with exit 0 and a temperature of 0.
+    // A run of nothing would end with exit 0 and a temperature of 0. Models may place particles of their
+    // own (membrane vertices, engine/installer.hpp Model::place).
+    if (total == 0)
+      for (const Model& m : models())
+        if (m.place) total += m.place(spec).size();
     if (total == 0 && !spec.species.empty()) {
       const SpeciesSpec& first = spec.species.front();
       const bool by_density = first.density.has_value();
