@@ -29,6 +29,9 @@ std::optional<ShearImages> lees_edwards_images(const SimulationSpec&);
 void install_sdpd(Installation& in);             // pair.style = "sdpd": refusals only (its law does the rest)
 std::string sdpd_numbers(const SimulationSpec&); // its limits and numbers for `mesodpd check`
 void install_spdpd(Installation& in);            // pair.style = "spdpd": angular velocities and their step
+void install_membrane(Installation& in);          // [[membrane]]: cells' vertices (placed) and forces (Forces)
+ModelSection membrane_section();
+std::vector<PlacedParticle> membrane_particles(const SimulationSpec&);
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -74,6 +77,7 @@ std::vector<Model> models() {
                            lees_edwards_images},
                           {"sdpd", install_sdpd, {}, sdpd_numbers},
                           {"spdpd", install_spdpd, {}},
+                          {"membrane", install_membrane, membrane_section, {}, {}, membrane_particles},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},
