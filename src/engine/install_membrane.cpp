@@ -354,24 +354,7 @@ void install_membrane(Installation& in) {
     const membrane::CellModel probe(mesh, membrane::Parameters{}, nullptr, key);
     membrane::CellModel model(mesh, cell_parameters(c, in.spec.kT, probe.mean_length()), nullptr, key);
     const std::size_t nv = model.vertex_count();
-    std::vector<Vec3> external(nv);
-    if (c.tweezers_force > 0) {
-      // The gripped vertices, farthest along the axis in the initial mesh (ties by index).
-      std::vector<std::uint32_t> order(nv);
-      for (std::uint32_t i = 0; i < nv; ++i) order[i] = i;
-      auto along = [&](std::uint32_t i) {
-        const Vec3& p = mesh.vertices[i];
-        return c.tweezers_axis == 0 ? p.x : c.tweezers_axis == 1 ? p.y : p.z;
-      };
-      std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return along(a) < along(b); });
-      const auto grip = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(c.tweezers_fraction * static_cast<double>(nv))));
-      Vec3 pull;
-      (c.tweezers_axis == 0 ? pull.x : c.tweezers_axis == 1 ? pull.y : pull.z) = c.tweezers_force / static_cast<double>(grip);
-      for (std::size_t g = 0; g < grip; ++g) {
-        external[order[g]] = -pull;
-        external[order[nv - 1 - g]] = pull;
-      }
-    }
+    std::vector<Vec3> external = membrane::tweezers(mesh, c.tweezers_force, c.tweezers_fraction, c.tweezers_axis);
     cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp});
     next += static_cast<std::uint32_t>(nv);
     every.push_back(c.output_every);

@@ -260,15 +260,13 @@ Shape measure(const Mesh& mesh, const std::vector<Vec3>& x, int axis) {
 
 namespace mesodpd::membrane {
 
-Stretched stretch(const CellModel& cell, const std::vector<Vec3>& start, double force, double fraction, int axis,
-                  double tolerance, std::size_t max_steps) {
-  const std::size_t n = start.size();
+std::vector<Vec3> tweezers(const Mesh& mesh, double force, double fraction, int axis) {
+  const std::size_t n = mesh.vertices.size();
   auto along = [axis](Vec3 p) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; };
-  // The gripped vertices, by their place along the axis in the mesh's own shape (ties by index).
   std::vector<std::uint32_t> order(n);
   for (std::uint32_t i = 0; i < n; ++i) order[i] = i;
-  const std::vector<Vec3>& ref = cell.mesh().vertices;
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return along(ref[a]) < along(ref[b]); });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return along(mesh.vertices[a]) < along(mesh.vertices[b]); });
   const auto grip = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(fraction * static_cast<double>(n))));
   Vec3 pull;
   (axis == 0 ? pull.x : axis == 1 ? pull.y : pull.z) = force / static_cast<double>(grip);
@@ -277,6 +275,13 @@ Stretched stretch(const CellModel& cell, const std::vector<Vec3>& start, double 
     external[order[k]] = -pull;
     external[order[n - 1 - k]] = pull;
   }
+  return external;
+}
+
+Stretched stretch(const CellModel& cell, const std::vector<Vec3>& start, double force, double fraction, int axis,
+                  double tolerance, std::size_t max_steps) {
+  const std::size_t n = start.size();
+  const std::vector<Vec3> external = tweezers(cell.mesh(), force, fraction, axis);
   Stretched out;
   out.x = start;
   std::vector<Vec3> v(n), f(n);

@@ -110,6 +110,10 @@ namespace mesodpd::membrane {
 // fraction at the other end. The shape minimises E - F (mean position of the first set - that of the
 // second), found by FIRE (Bitzek et al., Phys. Rev. Lett. 97, 170201 (2006)) from `start` until no
 // vertex feels more than `tolerance` of net force. Throws if it does not converge in `max_steps`.
+// The tweezers' force on each vertex: +force / k on the k = max(1, round(fraction N_v)) vertices farthest
+// along `axis` in the mesh's own shape, -force / k on the k nearest (ties by index), zero elsewhere.
+std::vector<Vec3> tweezers(const Mesh& mesh, double force, double fraction, int axis);
+
 struct Stretched {
   std::vector<Vec3> x;
   Shape shape;
