@@ -171,7 +171,7 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
         hi = std::max(hi, v);
       }
       if (hi - lo + 1.0 > spec.box[static_cast<std::size_t>(d)])
-        keys::fail(key + ".diameter", fmt::format("{}", hi - lo),
+        keys::fail(key + ".diameter", fmt::format("{}", c.diameter),
                    fmt::format("the cell spans {} along {}, more than the box ({}) less one cutoff", hi - lo, "xyz"[d],
                                spec.box[static_cast<std::size_t>(d)]));
     }
