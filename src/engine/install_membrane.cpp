@@ -15,8 +15,6 @@
 
 #include <fmt/format.h>
 
-#include "core/id_map.hpp"
-#include "engine/analysis_installer.hpp"
 #include "engine/blow_up_error.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/installer.hpp"

@@ -11,9 +11,6 @@ namespace mesodpd::membrane {
 
 namespace {
 
-Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
-
 // The angle between the outward normals of the triangles (a, b, c) and (d, c, b) at their shared edge
 // b-c, positive where the surface is convex, and its gradient with respect to a, b, c, d (the form of
 // Bridson, Marino & Fedkiw, SCA 2003: moving a or d along its triangle's outward normal flattens a

@@ -14,9 +14,6 @@ namespace mesodpd::membrane {
 
 namespace {
 
-Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
-
 // The icosahedron: the 12 points (0, +-1, +-g), (+-1, +-g, 0), (+-g, 0, +-1), g the golden ratio, and
 // its 20 faces, found as the triples of mutually adjacent points (distance 2), oriented outwards.
 void icosahedron(std::vector<Vec3>& v, std::vector<std::array<std::uint32_t, 3>>& faces) {

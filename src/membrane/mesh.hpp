@@ -5,6 +5,7 @@
 // membrane/membrane_forces.hpp.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,10 @@
 #include "core/vec3.hpp"
 
 namespace mesodpd::membrane {
+
+// Vector helpers the membrane code shares (core's Vec3 has only the operations the pair laws need).
+inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
 
 struct Mesh {
   std::vector<Vec3> vertices;

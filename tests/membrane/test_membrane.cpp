@@ -18,8 +18,6 @@
 namespace mesodpd::membrane {
 namespace {
 
-Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
 std::vector<Vec3> jiggled(const std::vector<Vec3>& x, double amount, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-amount, amount);
