@@ -46,6 +46,7 @@ struct MembraneSpec {
   BendingKind bending = BendingKind::None;
   double kb = 0, theta0_deg = 0, kappa = 0;
   double ka = 0, kd = 0, kv = 0, area0 = 0, volume0 = 0;
+  double gamma_t = 0, gamma_c = 0, viscosity = 0;
   double tweezers_force = 0, tweezers_fraction = 0.02;
   int tweezers_axis = 0;
   std::uint64_t tweezers_ramp = 0;
@@ -83,6 +84,9 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
     t.number("kv", &T::kv, keys::kNonNegative, "Volume constraint k_v (V - V0)^2 / (2 V0).");
     t.number("area0", &T::area0, keys::kNonNegative, "Target area A0.").default_text("the initial mesh's");
     t.number("volume0", &T::volume0, keys::kNonNegative, "Target volume V0 (below the mesh's to deflate a vesicle).").default_text("the initial mesh's");
+    t.number("gamma_t", &T::gamma_t, keys::kNonNegative, "Membrane viscosity: the edge friction gamma_T on the relative velocity of an edge's ends, with its random force (fluctuation-dissipation at `system.kT`; docs/physics.md). Give gamma_t and gamma_c, or `viscosity`.");
+    t.number("gamma_c", &T::gamma_c, keys::kNonNegative, "Membrane viscosity: the edge friction gamma_C along the edge. The random force needs 3 gamma_c >= gamma_t.");
+    t.number("viscosity", &T::viscosity, keys::kNonNegative, "The membrane shear viscosity eta_m = sqrt(3) (gamma_T + gamma_C / 4) (Fedosov et al. 2010), with gamma_C = gamma_T / 3 as they chose: gamma_T = 12 eta_m / (13 sqrt(3)).");
     t.number("tweezers_force", &T::tweezers_force, keys::kNonNegative, "Optical-tweezers stretching (Mills et al. 2004): a total force +F along `tweezers_axis` spread over the `tweezers_fraction` of the vertices farthest along it in the initial mesh, -F over the same fraction at the other end.");
     t.number("tweezers_fraction", &T::tweezers_fraction, {0.0, 0.5, false, true}, "The gripped fraction of the vertices at each end.").default_text("0.02");
     t.choice("tweezers_axis", &T::tweezers_axis, {{"x", 0}, {"y", 1}, {"z", 2}}, "The stretching direction.").default_text("\"x\"");
@@ -147,6 +151,13 @@ membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double me
   p.kv = c.kv;
   p.area0 = c.area0;
   p.volume0 = c.volume0;
+  if (c.viscosity > 0) {
+    p.gamma_t = 12.0 * c.viscosity / (13.0 * std::sqrt(3.0));
+    p.gamma_c = p.gamma_t / 3.0;
+  } else {
+    p.gamma_t = c.gamma_t;
+    p.gamma_c = c.gamma_c;
+  }
   return p;
 }
 
@@ -159,6 +170,11 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
     if (c.mesh != MeshKind::File && !(c.diameter > 0)) keys::fail(key + ".diameter", "(missing)", "a generated mesh needs its diameter");
     if (c.shear_modulus > 0 && c.persistence > 0)
       keys::fail(key + ".persistence", fmt::format("{}", c.persistence), "give shear_modulus or persistence, not both");
+    if (c.viscosity > 0 && (c.gamma_t > 0 || c.gamma_c > 0))
+      keys::fail(key + ".viscosity", fmt::format("{}", c.viscosity), "give viscosity or gamma_t and gamma_c, not both");
+    if (3 * c.gamma_c < c.gamma_t)
+      keys::fail(key + ".gamma_c", fmt::format("{}", c.gamma_c),
+                 fmt::format("the random force needs 3 gamma_c >= gamma_t ({}): its amplitude is sqrt(3 gamma_c - gamma_t)", c.gamma_t));
     const membrane::Mesh m = cell_mesh(c, key);
     // A cell larger than the box would overlap its own images.
     for (int d = 0; d < 3; ++d) {
@@ -176,14 +192,17 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
   }
 }
 
-// Every cell's vertices, in id order, unwrapped: (id, x, y, z) gathered from the ranks that own them.
+// Every cell's vertices, in id order, unwrapped, and where asked their velocities: (id, x, y, z[, vx, vy,
+// vz]) gathered from the ranks that own them.
 class VertexGather {
  public:
-  VertexGather(std::uint32_t first, std::uint32_t count) : first_(first), count_(count), x_(count) {}
+  VertexGather(std::uint32_t first, std::uint32_t count, bool velocities = false)
+      : first_(first), count_(count), velocities_(velocities), x_(count), v_(velocities ? count : 0) {}
   const std::vector<Vec3>& gather(const StepContext& ctx) {
     const ParticleData& p = ctx.particles;
     const double lx = ctx.box.len.x, ly = ctx.box.len.y, lz = ctx.box.len.z;
-    std::vector<double> mine;  // id, x, y, z of the owned vertices
+    const std::size_t width = velocities_ ? 7 : 4;
+    std::vector<double> mine;  // id, x, y, z[, vx, vy, vz] of the owned vertices
     std::size_t found = 0;
     for (std::size_t i = 0; i < p.n_local; ++i) {
       const std::uint32_t id = p.id[i];
@@ -191,8 +210,10 @@ class VertexGather {
       const Vec3 r{p.x[i] + p.ix[i] * lx, p.y[i] + p.iy[i] * ly, p.z[i] + p.iz[i] * lz};
       if (ctx.comm.distributed()) {
         mine.insert(mine.end(), {static_cast<double>(id), r.x, r.y, r.z});
+        if (velocities_) mine.insert(mine.end(), {p.vx[i], p.vy[i], p.vz[i]});
       } else {
         x_[id - first_] = r;
+        if (velocities_) v_[id - first_] = {p.vx[i], p.vy[i], p.vz[i]};
       }
       ++found;
     }
@@ -203,19 +224,24 @@ class VertexGather {
       ctx.comm.broadcast(all);
       std::vector<double> values(all.size() / sizeof(double));
       std::memcpy(values.data(), all.data(), values.size() * sizeof(double));
-      found = values.size() / 4;
-      for (std::size_t k = 0; k + 3 < values.size(); k += 4)
-        x_[static_cast<std::uint32_t>(values[k]) - first_] = {values[k + 1], values[k + 2], values[k + 3]};
+      found = values.size() / width;
+      for (std::size_t k = 0; k + width <= values.size(); k += width) {
+        const std::uint32_t at = static_cast<std::uint32_t>(values[k]) - first_;
+        x_[at] = {values[k + 1], values[k + 2], values[k + 3]};
+        if (velocities_) v_[at] = {values[k + 4], values[k + 5], values[k + 6]};
+      }
     }
     if (found != count_)
       throw std::logic_error(fmt::format("membrane: {} of {} vertices found", found, count_));
     return x_;
   }
   std::uint32_t first() const { return first_; }
+  const std::vector<Vec3>& velocities() const { return v_; }
 
  private:
   std::uint32_t first_, count_;
-  std::vector<Vec3> x_;
+  bool velocities_;
+  std::vector<Vec3> x_, v_;
 };
 
 struct Cell {
@@ -227,12 +253,14 @@ struct Cell {
 
 class MembraneForcesStage final : public Stage {
  public:
-  MembraneForcesStage(std::vector<Cell> cells, std::uint32_t first, std::uint32_t count)
-      : cells_(std::move(cells)), gather_(first, count) {}
+  MembraneForcesStage(std::vector<Cell> cells, std::uint32_t first, std::uint32_t count, std::uint64_t seed)
+      : cells_(std::move(cells)),
+        gather_(first, count, std::any_of(cells_.begin(), cells_.end(), [](const Cell& c) { return c.model.viscous(); })),
+        seed_(seed) {}
   void run(StepContext& ctx) override {
     const std::vector<Vec3>& all = gather_.gather(ctx);
     forces_.assign(all.size(), Vec3{});
-    std::vector<Vec3> x, f;
+    std::vector<Vec3> x, v, f;
     energy_ = 0;
     for (std::size_t c = 0; c < cells_.size(); ++c) {
       const Cell& cell = cells_[c];
@@ -251,6 +279,11 @@ class MembraneForcesStage final : public Stage {
                                       ctx.step, c, h.b, h.c, cell.first + h.b, cell.first + h.c, l, cell.model.max_length(broken), c));
       }
       energy_ += e->total();
+      if (cell.model.viscous()) {
+        const std::vector<Vec3>& vel = gather_.velocities();
+        v.assign(vel.begin() + static_cast<std::ptrdiff_t>(off), vel.begin() + static_cast<std::ptrdiff_t>(off + nv));
+        cell.model.viscous_forces(x, v, ctx.dt, seed_, ctx.step, cell.first, f);
+      }
       const double share = cell.ramp > ctx.step ? static_cast<double>(ctx.step) / static_cast<double>(cell.ramp) : 1.0;
       for (std::size_t i = 0; i < nv; ++i) forces_[off + i] = f[i] + share * cell.external[i];
     }
@@ -271,6 +304,7 @@ class MembraneForcesStage final : public Stage {
  private:
   std::vector<Cell> cells_;
   VertexGather gather_;
+  std::uint64_t seed_;
   std::vector<Vec3> forces_;
   double energy_ = 0;
 };
@@ -359,7 +393,7 @@ void install_membrane(Installation& in) {
     axes.push_back(c.tweezers_axis);
   }
   const std::uint32_t count = next - first;
-  auto& stage = in.stages.add(StagePoint::Forces, std::make_unique<MembraneForcesStage>(std::move(cells), first, count));
+  auto& stage = in.stages.add(StagePoint::Forces, std::make_unique<MembraneForcesStage>(std::move(cells), first, count, in.spec.seed));
   if (!in.options.out_dir.empty() && std::any_of(every.begin(), every.end(), [](std::uint64_t e) { return e > 0; }))
     in.stages.add(StagePoint::EndOfStep, std::make_unique<CellOutputStage>(stage, std::move(every), std::move(axes),
                                                                            in.options.out_dir / "cells.csv",

@@ -1,6 +1,8 @@
 // Membrane energies and their exact gradients (membrane/membrane_forces.hpp has the formulas).
 #include "membrane/membrane_forces.hpp"
 
+#include "core/philox.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -77,6 +79,48 @@ double persistence_for(double mu0, double l0, double x0, double kT, double m) {
 }
 
 double kantor_nelson_kb(double kappa) { return 2.0 * kappa / std::sqrt(3.0); }
+
+double membrane_viscosity(double gamma_t, double gamma_c) { return std::sqrt(3.0) * (gamma_t + 0.25 * gamma_c); }
+
+void edge_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t a, std::uint32_t b, double w[9]) {
+  // Streams 24-26 of the pair counter (core/philox.hpp numbers the engine's streams below 16). Box-Muller
+  // on each pair of words gives two variates (the cosine and the sine branch).
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const Philox4x32 r = pair_random_bits(seed, step, a, b, static_cast<RngStream>(24u + k));
+    for (int h = 0; h < 2; ++h) {
+      const double rad = std::sqrt(-2.0 * std::log(u01_open(r.v[2 * h])));
+      const double phi = 2.0 * std::numbers::pi * u01_open(r.v[2 * h + 1]);
+      const int i = 4 * static_cast<int>(k) + 2 * h;
+      if (i < 9) w[i] = rad * std::cos(phi);
+      if (i + 1 < 9) w[i + 1] = rad * std::sin(phi);
+    }
+  }
+}
+
+void CellModel::viscous_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt, std::uint64_t seed,
+                               std::uint64_t step, std::uint32_t first_id, std::vector<Vec3>& f) const {
+  if (!viscous()) return;
+  const double gt = params_.gamma_t, gc = params_.gamma_c;
+  const double amp = std::sqrt(2.0 * params_.kT / dt);
+  const double as = std::sqrt(2.0 * gt), at = std::sqrt(std::max(0.0, 3.0 * gc - gt));
+  double w[9];
+  for (const Hinge& h : hinges_) {
+    const std::size_t i = h.b, j = h.c;
+    const Vec3 d = x[i] - x[j];
+    const Vec3 e = (1.0 / norm(d)) * d;
+    const Vec3 vij = v[i] - v[j];
+    Vec3 force = -gt * vij - (gc * dot(vij, e)) * e;
+    edge_noise(seed, step, first_id + static_cast<std::uint32_t>(i), first_id + static_cast<std::uint32_t>(j), w);
+    const double tr3 = (w[0] + w[4] + w[8]) / 3.0;
+    // dW^S . e: the symmetric part less a third of the trace on the diagonal.
+    const double s01 = 0.5 * (w[1] + w[3]), s02 = 0.5 * (w[2] + w[6]), s12 = 0.5 * (w[5] + w[7]);
+    const Vec3 ws{(w[0] - tr3) * e.x + s01 * e.y + s02 * e.z, s01 * e.x + (w[4] - tr3) * e.y + s12 * e.z,
+                  s02 * e.x + s12 * e.y + (w[8] - tr3) * e.z};
+    force += amp * (as * ws + (at * tr3) * e);
+    f[i] += force;
+    f[j] += -force;
+  }
+}
 
 CellModel::CellModel(Mesh mesh, Parameters params, const std::vector<Vec3>* reference, const std::string& source)
     : mesh_(std::move(mesh)), params_(params) {

@@ -12,6 +12,15 @@
 //                     the areas of the triangles at i (integrates kappa/2 (2H)^2: 8 pi kappa for a sphere);
 //   area and volume:  U = k_a (A - A0)^2/(2 A0) + sum_t k_d (A_t - A0_t)^2/(2 A0_t) + k_v (V - V0)^2/(2 V0).
 //
+// Membrane viscosity (Fedosov, Caswell & Karniadakis 2010, their dissipative and random edge forces),
+// per edge i-j with unit vector e = (x_i - x_j)/|x_i - x_j| and v_ij = v_i - v_j, on i (minus on j):
+//     F^D = -gamma_T v_ij - gamma_C (v_ij . e) e,
+//     F^R dt = sqrt(2 kT) [sqrt(2 gamma_T) dW^S + sqrt(3 gamma_C - gamma_T) tr(dW)/3 1] . e,
+// dW a 3x3 matrix of independent Wiener increments per edge and step, dW^S its symmetric traceless part.
+// The covariance of F^R is 2 kT (gamma_T 1 + gamma_C e e) / dt, twice kT times the friction matrix of
+// F^D: the fluctuation-dissipation theorem (needs 3 gamma_C >= gamma_T). The membrane's shear viscosity
+// is eta_m = sqrt(3) (gamma_T + gamma_C / 4) (Fedosov et al. 2010).
+//
 // Forces are sums of gradients of lengths, dihedral angles, triangle areas and the enclosed volume, all
 // translation and rotation invariant, so the total force and torque are zero.
 #pragma once
@@ -36,7 +45,13 @@ struct Parameters {
   double kappa = 0.0;             // Juelicher
   double ka = 0.0, kd = 0.0, kv = 0.0;
   double area0 = 0.0, volume0 = 0.0;  // targets A0, V0; 0: the reference shape's
+  double gamma_t = 0.0, gamma_c = 0.0;  // membrane viscosity (3 gamma_C >= gamma_T)
 };
+
+// The noise of the edge between vertices with global ids a and b at `step`: nine independent standard
+// normal variates (the matrix dW / sqrt(dt), row-major), the same for (a, b) and (b, a), a pure function of
+// (seed, step, min id, max id): three Philox draws of the membrane's own streams.
+void edge_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t a, std::uint32_t b, double w[9]);
 
 struct Energies {
   double bond = 0, bend = 0, area_local = 0, area_global = 0, volume = 0;
@@ -61,6 +76,14 @@ class CellModel {
   // `broken` (the hinge index) and adds no force.
   std::optional<Energies> forces(const std::vector<Vec3>& x, std::vector<Vec3>& f, std::size_t* broken = nullptr) const;
   Energies energies(const std::vector<Vec3>& x) const;
+
+  // Adds the membrane viscosity's dissipative and random forces (the header's formulas) at positions x
+  // and velocities v (vertex order) to f: the noise of edge (b, c) is edge_noise(seed, step, first_id + b,
+  // first_id + c), so it does not depend on how the vertices are spread over threads or ranks. Nothing
+  // where gamma_T = gamma_C = 0.
+  void viscous_forces(const std::vector<Vec3>& x, const std::vector<Vec3>& v, double dt, std::uint64_t seed,
+                      std::uint64_t step, std::uint32_t first_id, std::vector<Vec3>& f) const;
+  bool viscous() const { return params_.gamma_t > 0 || params_.gamma_c > 0; }
 
   // The maximum length of edge k (hinge k's edge).
   double max_length(std::size_t k) const { return l0_[k] / params_.x0; }
@@ -89,6 +112,8 @@ double persistence_for(double mu0, double l0, double x0, double kT, double m);
 // Kantor-Nelson's k_b for a bending rigidity kappa: k_b = 2 kappa / sqrt(3) (the continuum limit on a
 // regular triangulation of a sphere).
 double kantor_nelson_kb(double kappa);
+// The membrane shear viscosity of the edge friction: eta_m = sqrt(3) (gamma_T + gamma_C / 4).
+double membrane_viscosity(double gamma_t, double gamma_c);
 
 // Shape measures of a cell: centroid, the extents along an axis and across it, area, volume and the
 // asphericity of the gyration tensor ((l1-l2)^2 + (l2-l3)^2 + (l1-l3)^2) / (2 (l1+l2+l3)^2).
