@@ -8,8 +8,10 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "engine/simulation.hpp"
 #include "io/output_file.hpp"
 #include "parallel/comm.hpp"
+#include "membrane/bounce.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "membrane/mesh.hpp"
 #include "mesodpd/config_error.hpp"
@@ -51,9 +54,14 @@ struct MembraneSpec {
   int tweezers_axis = 0;
   std::uint64_t tweezers_ramp = 0;
   std::uint64_t output_every = 0;
+  bool bounce = true;
+  std::string inner_species;
 };
 
 namespace {
+
+using membrane::cross;
+using membrane::norm;
 
 const keys::KeyTable<MembraneSpec>& membrane_keys() {
   using T = MembraneSpec;
@@ -91,7 +99,9 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
     t.number("tweezers_fraction", &T::tweezers_fraction, {0.0, 0.5, false, true}, "The gripped fraction of the vertices at each end.").default_text("0.02");
     t.choice("tweezers_axis", &T::tweezers_axis, {{"x", 0}, {"y", 1}, {"z", 2}}, "The stretching direction.").default_text("\"x\"");
     t.integer("tweezers_ramp", &T::tweezers_ramp, {0, 1000000000}, "The tweezers force grows linearly from 0 at step 0 to `tweezers_force` at this step (a sudden pull of the few gripped vertices would tear their edges).").default_text("0 (at once)");
-    t.integer("output_every", &T::output_every, {0, 1000000000}, "Write cells.csv (step, cell, centroid, axial and transverse diameters along/across `tweezers_axis`, area, volume, asphericity, membrane energy) every this many steps; 0: never.").default_text("0");
+    t.boolean("bounce", &T::bounce, "Bounce the other mobile particles (solvent, molecules) back from the cell's moving triangles, so the fluids inside and outside stay apart: a particle whose step would take it through a triangle is sent back from the point of contact with its velocity relative to the triangle reversed, and the momentum it gains is taken from the triangle's vertices (docs/physics.md). Needs the Groot-Warren integrator.").default_text("true");
+    t.string("inner_species", &T::inner_species, "In a new run, the free mobile particles that start inside the cell (not molecule beads) take this species: an inner fluid that may differ from the outer one (its pair parameters set its viscosity). A [[species]] with no particles of its own.").default_text("(none: the inner fluid keeps its species)");
+    t.integer("output_every", &T::output_every, {0, 1000000000}, "Write cells.csv (step, cell, centroid, axial and transverse diameters along/across `tweezers_axis`, area, volume, asphericity, and `wrong_side`: the particles inside the cell now that were outside it at the start of the run, or the other way round, whose target is zero) every this many steps; 0: never.").default_text("0");
     return t;
   }();
   return table;
@@ -106,6 +116,19 @@ int species_of(const MembraneSpec& c, const SimulationSpec& spec, const std::str
       return static_cast<int>(s);
     }
   keys::fail(key + ".species", "\"" + c.species + "\"", "no [[species]] of that name");
+  return -1;
+}
+
+int inner_species_of(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
+  for (std::size_t s = 0; s < spec.species.size(); ++s)
+    if (spec.species[s].name == c.inner_species) {
+      const SpeciesSpec& sp = spec.species[s];
+      if (sp.frozen) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "a frozen species is not a fluid");
+      if (sp.count > 0) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "the species has particles of its own (density or count); the inner fluid's particles are those found inside the cell");
+      if (c.inner_species == c.species) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "that is the species of the cell's vertices");
+      return static_cast<int>(s);
+    }
+  keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "no [[species]] of that name");
   return -1;
 }
 
@@ -166,6 +189,9 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
     const MembraneSpec& c = list[k];
     const std::string key = fmt::format("membrane[{}]", k);
     species_of(c, spec, key);
+    if (!c.inner_species.empty()) inner_species_of(c, spec, key);
+    if (c.bounce && spec.integrator != IntegratorKind::GrootWarren)
+      keys::fail(key + ".bounce", "true", "the bounce-back needs the Groot-Warren integrator (its half-step velocity is the one that moved the particles); set bounce = false or integrator.type = \"groot-warren\"");
     if (c.mesh == MeshKind::File && c.file.empty()) keys::fail(key + ".file", "(missing)", "mesh = \"file\" needs the OFF file");
     if (c.mesh != MeshKind::File && !(c.diameter > 0)) keys::fail(key + ".diameter", "(missing)", "a generated mesh needs its diameter");
     if (c.shear_modulus > 0 && c.persistence > 0)
@@ -196,8 +222,11 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
 // vz]) gathered from the ranks that own them.
 class VertexGather {
  public:
-  VertexGather(std::uint32_t first, std::uint32_t count, bool velocities = false)
-      : first_(first), count_(count), velocities_(velocities), x_(count), v_(velocities ? count : 0) {}
+  // `velocities`: none, the predicted velocities v (what the forces see) or the half-step ones h.
+  enum class Velocities { None, Predicted, HalfStep };
+  VertexGather(std::uint32_t first, std::uint32_t count, Velocities velocities = Velocities::None)
+      : first_(first), count_(count), velocities_(velocities != Velocities::None), half_(velocities == Velocities::HalfStep),
+        x_(count), v_(velocities_ ? count : 0) {}
   const std::vector<Vec3>& gather(const StepContext& ctx) {
     const ParticleData& p = ctx.particles;
     const double lx = ctx.box.len.x, ly = ctx.box.len.y, lz = ctx.box.len.z;
@@ -210,10 +239,10 @@ class VertexGather {
       const Vec3 r{p.x[i] + p.ix[i] * lx, p.y[i] + p.iy[i] * ly, p.z[i] + p.iz[i] * lz};
       if (ctx.comm.distributed()) {
         mine.insert(mine.end(), {static_cast<double>(id), r.x, r.y, r.z});
-        if (velocities_) mine.insert(mine.end(), {p.vx[i], p.vy[i], p.vz[i]});
+        if (velocities_) mine.insert(mine.end(), {vel(p, i).x, vel(p, i).y, vel(p, i).z});
       } else {
         x_[id - first_] = r;
-        if (velocities_) v_[id - first_] = {p.vx[i], p.vy[i], p.vz[i]};
+        if (velocities_) v_[id - first_] = vel(p, i);
       }
       ++found;
     }
@@ -239,8 +268,11 @@ class VertexGather {
   const std::vector<Vec3>& velocities() const { return v_; }
 
  private:
+  Vec3 vel(const ParticleData& p, std::size_t i) const {
+    return half_ ? Vec3{p.hx[i], p.hy[i], p.hz[i]} : Vec3{p.vx[i], p.vy[i], p.vz[i]};
+  }
   std::uint32_t first_, count_;
-  bool velocities_;
+  bool velocities_, half_;
   std::vector<Vec3> x_, v_;
 };
 
@@ -249,13 +281,17 @@ struct Cell {
   std::uint32_t first = 0;             // id of vertex 0
   std::vector<Vec3> external;          // tweezers force per vertex (at full strength)
   std::uint64_t ramp = 0;              // steps over which it grows from 0
+  std::size_t species = 0;             // of its vertices
 };
 
 class MembraneForcesStage final : public Stage {
  public:
   MembraneForcesStage(std::vector<Cell> cells, std::uint32_t first, std::uint32_t count, std::uint64_t seed)
       : cells_(std::move(cells)),
-        gather_(first, count, std::any_of(cells_.begin(), cells_.end(), [](const Cell& c) { return c.model.viscous(); })),
+        gather_(first, count,
+                std::any_of(cells_.begin(), cells_.end(), [](const Cell& c) { return c.model.viscous(); })
+                    ? VertexGather::Velocities::Predicted
+                    : VertexGather::Velocities::None),
         seed_(seed) {}
   void run(StepContext& ctx) override {
     const std::vector<Vec3>& all = gather_.gather(ctx);
@@ -309,15 +345,359 @@ class MembraneForcesStage final : public Stage {
   double energy_ = 0;
 };
 
+// The particles a membrane keeps apart: every local particle that is mobile and not a membrane vertex.
+struct Movers {
+  std::vector<char> frozen;  // by species
+  std::uint32_t first = 0, count = 0;
+  bool operator()(const ParticleData& p, std::size_t i) const {
+    return !frozen[static_cast<std::size_t>(p.species[i])] && (p.id[i] < first || p.id[i] >= first + count);
+  }
+};
+
+// The shift by whole periods that brings the wrapped position r next to the unwrapped point near.
+Vec3 image_shift(const Box& box, Vec3 r, Vec3 near) {
+  Vec3 s;
+  if (box.periodic[0]) s.x = box.len.x * std::round((near.x - r.x) / box.len.x);
+  if (box.periodic[1]) s.y = box.len.y * std::round((near.y - r.y) / box.len.y);
+  if (box.periodic[2]) s.z = box.len.z * std::round((near.z - r.z) / box.len.z);
+  return s;
+}
+
+// Which local movers lie inside each cell (winding number > 1/2), as sorted global ids over all ranks.
+std::vector<std::vector<std::uint32_t>> inside_ids(const StepContext& ctx, const std::vector<Cell>& cells,
+                                                   const std::vector<Vec3>& all, std::uint32_t first_all, const Movers& movers) {
+  const ParticleData& p = ctx.particles;
+  std::vector<std::vector<std::uint32_t>> ids(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const Cell& cell = cells[c];
+    const std::size_t off = cell.first - first_all, nv = cell.model.vertex_count();
+    const std::vector<Vec3> x(all.begin() + static_cast<std::ptrdiff_t>(off), all.begin() + static_cast<std::ptrdiff_t>(off + nv));
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& v : x) {
+      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+    const Vec3 mid = 0.5 * (lo + hi);
+    std::vector<std::uint32_t> mine;
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      if (!movers(p, i)) continue;
+      Vec3 r{p.x[i], p.y[i], p.z[i]};
+      r += image_shift(ctx.box, r, mid);
+      if (r.x < lo.x || r.y < lo.y || r.z < lo.z || r.x > hi.x || r.y > hi.y || r.z > hi.z) continue;
+      if (membrane::winding_number(cell.model.mesh(), x, r) > 0.5) mine.push_back(p.id[i]);
+    }
+    if (ctx.comm.distributed()) {
+      std::vector<std::byte> bytes(mine.size() * sizeof(std::uint32_t));
+      std::memcpy(bytes.data(), mine.data(), bytes.size());
+      const std::vector<std::byte> got = ctx.comm.gather(bytes);
+      std::vector<std::byte> every = got;
+      ctx.comm.broadcast(every);
+      mine.resize(every.size() / sizeof(std::uint32_t));
+      std::memcpy(mine.data(), every.data(), every.size());
+    }
+    std::sort(mine.begin(), mine.end());
+    ids[c] = std::move(mine);
+  }
+  return ids;
+}
+
+// The solvent's bounce-back on the moving triangles (AfterFirstHalf: positions moved, forces not yet
+// computed). With the Groot-Warren integrator every particle moved this step from x - dt h to x, h its
+// half-step velocity, and every vertex likewise: the straight paths membrane::first_contact needs. A
+// mover whose path meets a triangle (the earliest contact over all candidates) is sent back from the
+// point of contact with its velocity relative to the triangle (the vertices' h interpolated there)
+// reversed, for the rest of the step; its momentum change is taken from the triangle's three vertices in
+// the proportions of the contact's weights. The candidates come from a grid of unit bins holding every
+// triangle's swept box, widened by the longest move of any particle. The contacts of all ranks are
+// applied to the vertices in order of particle id, so the result is the same on any thread or rank count.
+class MembraneBounceStage final : public Stage {
+ public:
+  MembraneBounceStage(const std::vector<Cell>& cells, std::vector<char> bounce, Movers movers, std::uint32_t first,
+                      std::uint32_t count)
+      : cells_(cells), bounce_(std::move(bounce)), movers_(std::move(movers)),
+        gather_(first, count, VertexGather::Velocities::HalfStep), momentum_(count) {}
+
+  void run(StepContext& ctx) override {
+    const std::vector<Vec3>& x1 = gather_.gather(ctx);
+    const std::vector<Vec3>& h = gather_.velocities();
+    const double dt = ctx.dt;
+    ParticleData& p = ctx.particles;
+    const Box& box = ctx.box;
+    // How far a path's end may lie from a triangle it meets: the particle's move, or after a bounce
+    // (velocity 2 u - h) up to its speed plus twice the fastest vertex's.
+    double fastest = 0, vertex_fastest = 0;
+    for (std::size_t i = 0; i < p.n_local; ++i)
+      if (movers_(p, i)) fastest = std::max(fastest, norm(Vec3{p.hx[i], p.hy[i], p.hz[i]}));
+    for (const Vec3& v : h) vertex_fastest = std::max(vertex_fastest, norm(v));
+    bin_triangles(box, x1, h, dt, dt * (fastest + 2 * vertex_fastest) + 1e-9);
+    std::vector<double> hits;  // per contact: particle id, three vertex indices, three weights, dp
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      if (!movers_(p, i)) continue;
+      const Vec3 r{p.x[i], p.y[i], p.z[i]};
+      if (!occupied_[bin_of(box, r)]) continue;
+      // The path of this step, then after each contact the rest of the step from the contact point with
+      // the reflected velocity, until a path meets nothing (at most kRounds contacts).
+      Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
+      Vec3 end = r, start = r - dt * hcur;
+      double t0 = 0;
+      std::uint32_t last_cell = ~0u, last_tri = ~0u;
+      std::array<std::uint32_t, 3> last_corners{};
+      Vec3 last_shift;
+      double last_side = 1.0;
+      int rounds = 0;
+      const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
+      for (; rounds < kRounds; ++rounds) {
+        candidates_near(box, end, candidates);
+        double best = 2.0;
+        membrane::Hit hit;
+        std::array<std::uint32_t, 3> corners{};
+        std::uint32_t hit_cell = 0, hit_tri = 0;
+        Vec3 shift;
+        for (const auto& [c, t] : candidates) {
+          if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
+          const std::array<std::uint32_t, 3> v = corners_of(c, t);
+          const Vec3 s = image_shift(box, end, x1[v[0]]);
+          // Most candidates are ruled out by their swept boxes.
+          const Box3& tb = swept_[tri_offset_[c] + t];
+          const Vec3 ps = start + s, pe = end + s;
+          if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
+              std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
+            continue;
+          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
+          const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
+          if (a && a->t < best) {
+            best = a->t;
+            hit = *a;
+            corners = v;
+            shift = s;
+            hit_cell = c;
+            hit_tri = t;
+          }
+        }
+        if (best > 1.0) break;
+        const Vec3 contact = start + best * (end - start);
+        const Vec3 u = hit.w[0] * h[corners[0]] + hit.w[1] * h[corners[1]] + hit.w[2] * h[corners[2]];
+        // An elastic collision with the contact point, whose mass is M = 1 / sum_k w_k^2 / m_k: the
+        // velocity relative to it reversed in the frame of their centre of mass, which conserves momentum
+        // and energy (the full bounce-back 2 u - h of an immovable wall would heat the membrane).
+        const double mv = ctx.species_mass[cells_[hit_cell].species];
+        const double big_m = mv / (hit.w[0] * hit.w[0] + hit.w[1] * hit.w[1] + hit.w[2] * hit.w[2]);
+        const double mu = m * big_m / (m + big_m);
+        const Vec3 hn = hcur - (2.0 * mu / m) * (hcur - u);
+        const Vec3 dp = m * (hn - hcur);
+        // The side the particle came from, by its approach to the triangle at the time of contact.
+        {
+          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - (t0 + best * (1.0 - t0))) * dt) * h[k]; };
+          const Vec3 n = cross(at(corners[1]) - at(corners[0]), at(corners[2]) - at(corners[0]));
+          last_side = dot(hcur - u, n) > 0 ? -1.0 : 1.0;
+        }
+        hits.insert(hits.end(), {static_cast<double>(p.id[i]), static_cast<double>(corners[0]), static_cast<double>(corners[1]),
+                                 static_cast<double>(corners[2]), hit.w[0], hit.w[1], hit.w[2], dp.x, dp.y, dp.z});
+        t0 += best * (1.0 - t0);
+        start = contact;
+        end = contact + ((1.0 - t0) * dt) * hn;
+        hcur = hn;
+        last_cell = hit_cell;
+        last_tri = hit_tri;
+        last_corners = corners;
+        last_shift = shift;
+      }
+      if (rounds == 0) continue;
+      if (rounds == kRounds) ++unresolved_;
+      place(p, i, end, hcur, last_corners, last_side, last_shift, x1, box);
+    }
+    for (const Entry& e : entries_) occupied_[e.bin] = 0;
+    bounces_ += hits.size() / kWidth;
+    give_to_vertices(ctx, hits);
+  }
+
+  std::uint64_t bounces() const { return bounces_; }        // on this rank, since the start of this run
+  std::uint64_t unresolved() const { return unresolved_; }  // paths still meeting a triangle after kRounds contacts
+
+ private:
+  static constexpr std::size_t kWidth = 10;
+  static constexpr int kRounds = 4;
+  struct Entry {
+    std::size_t bin;
+    std::uint32_t cell, triangle;
+  };
+  struct Box3 {
+    Vec3 lo, hi;
+  };
+
+  std::array<std::uint32_t, 3> corners_of(std::uint32_t c, std::uint32_t t) const {
+    const Cell& cell = cells_[c];
+    const auto& tri = cell.model.mesh().triangles[t];
+    const std::uint32_t off = cell.first - gather_.first();
+    return {off + tri[0], off + tri[1], off + tri[2]};
+  }
+
+  std::size_t bin_index(const Box& box, int d, double v) const {
+    const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
+    long k = static_cast<long>(std::floor(v / box.length(d) * static_cast<double>(n)));
+    k = box.periodic[static_cast<std::size_t>(d)] ? ((k % n) + n) % n : std::clamp(k, 0L, n - 1);
+    return static_cast<std::size_t>(k);
+  }
+  std::size_t bin_of(const Box& box, Vec3 r) const {
+    return (bin_index(box, 2, r.z) * bins_[1] + bin_index(box, 1, r.y)) * bins_[0] + bin_index(box, 0, r.x);
+  }
+
+  void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
+    for (int d = 0; d < 3; ++d) bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d)));
+    occupied_.resize(bins_[0] * bins_[1] * bins_[2], 0);
+    entries_.clear();
+    if (tri_offset_.empty()) {
+      tri_offset_.push_back(0);
+      for (const Cell& cell : cells_) tri_offset_.push_back(tri_offset_.back() + cell.model.mesh().triangles.size());
+      swept_.resize(tri_offset_.back());
+    }
+    for (std::uint32_t c = 0; c < cells_.size(); ++c) {
+      if (!bounce_[c]) continue;
+      const auto& tris = cells_[c].model.mesh().triangles;
+      for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        const std::array<std::uint32_t, 3> v = corners_of(c, t);
+        double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+        for (std::uint32_t k : v)
+          for (const Vec3& q : {x1[k], x1[k] - dt * h[k]}) {
+            const double c3[3] = {q.x, q.y, q.z};
+            for (int d = 0; d < 3; ++d) {
+              lo[d] = std::min(lo[d], c3[d]);
+              hi[d] = std::max(hi[d], c3[d]);
+            }
+          }
+        swept_[tri_offset_[c] + t] = {{lo[0] - 1e-9, lo[1] - 1e-9, lo[2] - 1e-9}, {hi[0] + 1e-9, hi[1] + 1e-9, hi[2] + 1e-9}};
+        for (int d = 0; d < 3; ++d) {
+          lo[d] -= reach;
+          hi[d] += reach;
+        }
+        long from[3], to[3];
+        for (int d = 0; d < 3; ++d) {
+          const double w = box.length(d) / static_cast<double>(bins_[static_cast<std::size_t>(d)]);
+          from[d] = static_cast<long>(std::floor(lo[d] / w));
+          to[d] = static_cast<long>(std::floor(hi[d] / w));
+          if (to[d] - from[d] + 1 >= static_cast<long>(bins_[static_cast<std::size_t>(d)])) {
+            from[d] = 0;
+            to[d] = static_cast<long>(bins_[static_cast<std::size_t>(d)]) - 1;
+          }
+        }
+        for (long k = from[2]; k <= to[2]; ++k)
+          for (long j = from[1]; j <= to[1]; ++j)
+            for (long i = from[0]; i <= to[0]; ++i) {
+              const Vec3 centre{(static_cast<double>(i) + 0.5) * box.len.x / static_cast<double>(bins_[0]),
+                                (static_cast<double>(j) + 0.5) * box.len.y / static_cast<double>(bins_[1]),
+                                (static_cast<double>(k) + 0.5) * box.len.z / static_cast<double>(bins_[2])};
+              const std::size_t b = bin_of(box, centre);
+              entries_.push_back({b, c, t});
+              occupied_[b] = 1;
+            }
+      }
+    }
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+      return a.bin != b.bin ? a.bin < b.bin : (a.cell != b.cell ? a.cell < b.cell : a.triangle < b.triangle);
+    });
+    entries_.erase(std::unique(entries_.begin(), entries_.end(),
+                               [](const Entry& a, const Entry& b) { return a.bin == b.bin && a.cell == b.cell && a.triangle == b.triangle; }),
+                   entries_.end());
+  }
+
+  // The triangles whose swept boxes (widened by the reach) cover the bin of the point r (wrapped or not).
+  void candidates_near(const Box& box, Vec3 r, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+    out.clear();
+    const std::size_t bin = bin_of(box, r);
+    if (!occupied_[bin]) return;
+    auto range = std::equal_range(entries_.begin(), entries_.end(), Entry{bin, 0, 0},
+                                  [](const Entry& a, const Entry& b) { return a.bin < b.bin; });
+    for (auto it = range.first; it != range.second; ++it) out.emplace_back(it->cell, it->triangle);
+  }
+
+  // Puts particle i at the end of its bounced path (in the frame of the last triangle met: shift) with
+  // the half-step velocity hn, at least 1e-7 from that triangle's plane at the end of the step on the
+  // side it came from (side: +1 where the triangle's normal points); the predicted velocity keeps its
+  // offset from the half-step one.
+  static void place(ParticleData& p, std::size_t i, Vec3 end, Vec3 hn, const std::array<std::uint32_t, 3>& v, double side,
+                    Vec3 shift, const std::vector<Vec3>& x1, const Box& box) {
+    Vec3 r = end + shift;
+    const Vec3 n1 = cross(x1[v[1]] - x1[v[0]], x1[v[2]] - x1[v[0]]);
+    const Vec3 nh = (1.0 / norm(n1)) * n1;
+    const double dist = side * dot(r - x1[v[0]], nh);
+    if (dist < 1e-7) r += (side * (1e-7 - dist)) * nh;
+    r = r - shift;
+    double* xyz[3] = {&p.x[i], &p.y[i], &p.z[i]};
+    std::int32_t* img[3] = {&p.ix[i], &p.iy[i], &p.iz[i]};
+    const double q[3] = {r.x, r.y, r.z};
+    for (int d = 0; d < 3; ++d) {
+      *xyz[d] = q[d];
+      if (box.periodic[static_cast<std::size_t>(d)]) wrap_coordinate(*xyz[d], *img[d], box.length(d));
+    }
+    const Vec3 dh = hn - Vec3{p.hx[i], p.hy[i], p.hz[i]};
+    p.hx[i] = hn.x;
+    p.hy[i] = hn.y;
+    p.hz[i] = hn.z;
+    p.vx[i] += dh.x;
+    p.vy[i] += dh.y;
+    p.vz[i] += dh.z;
+  }
+
+  // Every rank's contacts, in order of particle id: their momentum taken from the vertices this rank owns.
+  void give_to_vertices(StepContext& ctx, std::vector<double>& hits) {
+    if (ctx.comm.distributed()) {
+      std::vector<std::byte> bytes(hits.size() * sizeof(double));
+      std::memcpy(bytes.data(), hits.data(), bytes.size());
+      std::vector<std::byte> all = ctx.comm.gather(bytes);
+      ctx.comm.broadcast(all);
+      hits.resize(all.size() / sizeof(double));
+      std::memcpy(hits.data(), all.data(), all.size());
+    }
+    if (hits.empty()) return;
+    std::vector<std::size_t> order(hits.size() / kWidth);
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    // A particle's contacts stay in the order they happened (stable).
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return hits[a * kWidth] < hits[b * kWidth]; });
+    std::fill(momentum_.begin(), momentum_.end(), Vec3{});
+    for (std::size_t k : order) {
+      const double* e = &hits[k * kWidth];
+      const Vec3 dp{e[7], e[8], e[9]};
+      for (int c = 0; c < 3; ++c) momentum_[static_cast<std::size_t>(e[1 + c])] += (-e[4 + c]) * dp;
+    }
+    ParticleData& p = ctx.particles;
+    const std::uint32_t first = gather_.first(), end = first + static_cast<std::uint32_t>(momentum_.size());
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      if (p.id[i] < first || p.id[i] >= end) continue;
+      const Vec3 g = (1.0 / ctx.species_mass[static_cast<std::size_t>(p.species[i])]) * momentum_[p.id[i] - first];
+      p.hx[i] += g.x;
+      p.hy[i] += g.y;
+      p.hz[i] += g.z;
+      p.vx[i] += g.x;
+      p.vy[i] += g.y;
+      p.vz[i] += g.z;
+    }
+  }
+
+  const std::vector<Cell>& cells_;
+  std::vector<char> bounce_;
+  Movers movers_;
+  VertexGather gather_;
+  std::vector<Vec3> momentum_;
+  std::array<std::size_t, 3> bins_{1, 1, 1};
+  std::vector<char> occupied_;
+  std::vector<Entry> entries_;
+  std::vector<std::size_t> tri_offset_;  // the first triangle of each cell in swept_
+  std::vector<Box3> swept_;              // each triangle's box over this step's move
+  std::uint64_t bounces_ = 0, unresolved_ = 0;
+};
+
 // cells.csv: the shape of every cell every `every` steps (root writes).
 class CellOutputStage final : public Stage {
  public:
-  CellOutputStage(const MembraneForcesStage& forces, std::vector<std::uint64_t> every, std::vector<int> axes,
-                  std::filesystem::path path, bool append, std::uint32_t first, std::uint32_t count)
-      : forces_(forces), every_(std::move(every)), axes_(std::move(axes)), gather_(first, count) {
+  CellOutputStage(const MembraneForcesStage& forces, std::shared_ptr<const std::vector<std::vector<std::uint32_t>>> inside, Movers movers,
+                  std::vector<std::uint64_t> every, std::vector<int> axes, std::filesystem::path path, bool append,
+                  std::uint32_t first, std::uint32_t count)
+      : forces_(forces), inside_(std::move(inside)), movers_(std::move(movers)), every_(std::move(every)), axes_(std::move(axes)),
+        gather_(first, count) {
     Comm::world().on_root([&] {
       file_.open(path, append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
-      if (!append) file_ << "step,cell,cx,cy,cz,axial,transverse,area,volume,asphericity\n";
+      if (!append) file_ << "step,cell,cx,cy,cz,axial,transverse,area,volume,asphericity,wrong_side\n";
       file_.flush();
     });
   }
@@ -326,6 +706,7 @@ class CellOutputStage final : public Stage {
     for (std::uint64_t e : every_) any = any || (e > 0 && ctx.step % e == 0);
     if (!any) return;
     const std::vector<Vec3>& all = gather_.gather(ctx);
+    const std::vector<std::vector<std::uint32_t>> now = inside_ids(ctx, forces_.cells(), all, gather_.first(), movers_);
     if (!ctx.comm.root()) return;
     for (std::size_t c = 0; c < forces_.cells().size(); ++c) {
       if (every_[c] == 0 || ctx.step % every_[c] != 0) continue;
@@ -333,14 +714,28 @@ class CellOutputStage final : public Stage {
       const std::size_t off = cell.first - gather_.first(), nv = cell.model.vertex_count();
       const std::vector<Vec3> x(all.begin() + static_cast<std::ptrdiff_t>(off), all.begin() + static_cast<std::ptrdiff_t>(off + nv));
       const membrane::Shape s = membrane::measure(cell.model.mesh(), x, axes_[c]);
-      file_ << fmt::format("{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.6g}\n", ctx.step, c, s.centroid.x,
-                           s.centroid.y, s.centroid.z, s.axial, s.transverse, s.area, s.volume, s.asphericity);
+      file_ << fmt::format("{},{},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.8g},{:.6g},{}\n", ctx.step, c, s.centroid.x,
+                           s.centroid.y, s.centroid.z, s.axial, s.transverse, s.area, s.volume, s.asphericity,
+                           wrong_side((*inside_)[c], now[c]));
     }
     file_.flush();
   }
 
  private:
+
+ public:
+  // The particles in one sorted list and not the other.
+  static std::size_t wrong_side(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    std::vector<std::uint32_t> diff;
+    std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(diff));
+    return diff.size();
+  }
+
+
+ private:
   const MembraneForcesStage& forces_;
+  std::shared_ptr<const std::vector<std::vector<std::uint32_t>>> inside_;
+  Movers movers_;
   std::vector<std::uint64_t> every_;
   std::vector<int> axes_;
   VertexGather gather_;
@@ -387,15 +782,54 @@ void install_membrane(Installation& in) {
     membrane::CellModel model(mesh, cell_parameters(c, in.spec.kT, probe.mean_length()), nullptr, key);
     const std::size_t nv = model.vertex_count();
     std::vector<Vec3> external = membrane::tweezers(mesh, c.tweezers_force, c.tweezers_fraction, c.tweezers_axis);
-    cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp});
+    cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp,
+                     static_cast<std::size_t>(species_of(c, in.spec, key))});
     next += static_cast<std::uint32_t>(nv);
     every.push_back(c.output_every);
     axes.push_back(c.tweezers_axis);
   }
   const std::uint32_t count = next - first;
   auto& stage = in.stages.add(StagePoint::Forces, std::make_unique<MembraneForcesStage>(std::move(cells), first, count, in.spec.seed));
+  Movers movers{{}, first, count};
+  for (const SpeciesSpec& sp : in.spec.species) movers.frozen.push_back(sp.frozen ? 1 : 0);
+  // The inner fluids of a new run, then who is inside each cell at the start (the reference of the
+  // wrong-side count).
+  StepContext ctx = in.context();
+  VertexGather gather(first, count);
+  const std::vector<Vec3>& vertices = gather.gather(ctx);
+  if (!in.restarted) {
+    const std::vector<std::vector<std::uint32_t>> start = inside_ids(ctx, stage.cells(), vertices, first, movers);
+    ParticleData& p = ctx.particles;
+    for (std::size_t k = 0; k < list->size(); ++k) {
+      if ((*list)[k].inner_species.empty()) continue;
+      const int inner = inner_species_of((*list)[k], in.spec, fmt::format("membrane[{}]", k));
+      for (std::size_t i = 0; i < p.n_local; ++i)
+        if (p.mol[i] == 0 && movers(p, i) && std::binary_search(start[k].begin(), start[k].end(), p.id[i])) p.species[i] = inner;
+    }
+  }
+  auto inside = std::make_shared<const std::vector<std::vector<std::uint32_t>>>(inside_ids(ctx, stage.cells(), vertices, first, movers));
+  std::vector<char> bounce;
+  for (const MembraneSpec& c : *list) bounce.push_back(c.bounce ? 1 : 0);
+  MembraneBounceStage* bouncer = nullptr;
+  if (std::any_of(bounce.begin(), bounce.end(), [](char b) { return b != 0; }))
+    bouncer = &in.stages.add(StagePoint::AfterFirstHalf, std::make_unique<MembraneBounceStage>(stage.cells(), bounce, movers, first, count));
+  in.summaries.push_back([&stage, bouncer, inside, movers, first, count](const StepContext& c) {
+    std::uint64_t n[2] = {bouncer ? bouncer->bounces() : 0, bouncer ? bouncer->unresolved() : 0};
+    c.comm.sum(std::span<std::uint64_t>(n, 2));
+    VertexGather g(first, count);
+    const std::vector<std::vector<std::uint32_t>> now = inside_ids(c, stage.cells(), g.gather(c), first, movers);
+    std::size_t wrong = 0;
+    for (std::size_t k = 0; k < now.size(); ++k) wrong += CellOutputStage::wrong_side((*inside)[k], now[k]);
+    std::size_t in_cells = 0;
+    for (const auto& ids : now) in_cells += ids.size();
+    return c.comm.root() ? fmt::format("membranes: {} bounce-backs on the cells' triangles this run ({} paths still meeting "
+                                       "a triangle after 4 contacts); {} particles inside cells, {} of them or others on "
+                                       "the wrong side of a membrane (target 0)\n",
+                                       n[0], n[1], in_cells, wrong)
+                         : std::string();
+  });
   if (!in.options.out_dir.empty() && std::any_of(every.begin(), every.end(), [](std::uint64_t e) { return e > 0; }))
-    in.stages.add(StagePoint::EndOfStep, std::make_unique<CellOutputStage>(stage, std::move(every), std::move(axes),
+    in.stages.add(StagePoint::EndOfStep, std::make_unique<CellOutputStage>(stage, inside, movers, std::move(every), std::move(axes),
                                                                            in.options.out_dir / "cells.csv",
                                                                            in.restarted, first, count));
 }
