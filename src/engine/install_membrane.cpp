@@ -423,8 +423,8 @@ class MembraneBounceStage final : public Stage {
     const double dt = ctx.dt;
     ParticleData& p = ctx.particles;
     const Box& box = ctx.box;
-    // How far a path's end may lie from a triangle it meets: the particle's move, or after a bounce
-    // (velocity 2 u - h) up to its speed plus twice the fastest vertex's.
+    // How far a path's end may lie from a triangle it meets: the particle's move, or after a contact
+    // (velocity h - (2 mu / m)(h - u), 2 mu / m <= 2) at most its speed plus twice the fastest vertex's.
     double fastest = 0, vertex_fastest = 0;
     for (std::size_t i = 0; i < p.n_local; ++i)
       if (movers_(p, i)) fastest = std::max(fastest, norm(Vec3{p.hx[i], p.hy[i], p.hz[i]}));
@@ -513,7 +513,7 @@ class MembraneBounceStage final : public Stage {
   }
 
   std::uint64_t bounces() const { return bounces_; }        // on this rank, since the start of this run
-  std::uint64_t unresolved() const { return unresolved_; }  // paths still meeting a triangle after kRounds contacts
+  std::uint64_t unresolved() const { return unresolved_; }  // paths with kRounds contacts in a step (not tested further)
 
  private:
   static constexpr std::size_t kWidth = 10;
@@ -822,9 +822,9 @@ void install_membrane(Installation& in) {
     for (std::size_t k = 0; k < now.size(); ++k) wrong += CellOutputStage::wrong_side((*inside)[k], now[k]);
     std::size_t in_cells = 0;
     for (const auto& ids : now) in_cells += ids.size();
-    return c.comm.root() ? fmt::format("membranes: {} bounce-backs on the cells' triangles this run ({} paths still meeting "
-                                       "a triangle after 4 contacts); {} particles inside cells, {} of them or others on "
-                                       "the wrong side of a membrane (target 0)\n",
+    return c.comm.root() ? fmt::format("membranes: {} bounce-backs on the cells' triangles this run ({} paths with 4 "
+                                       "contacts in one step, the most tested); {} particles inside cells, {} of them or "
+                                       "others on the wrong side of a membrane (target 0)\n",
                                        n[0], n[1], in_cells, wrong)
                          : std::string();
   });
