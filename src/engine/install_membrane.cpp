@@ -33,7 +33,6 @@
 namespace mesodpd {
 
 enum class MeshKind { RedCell, Sphere, File };
-enum class BendingKind { None, KantorNelson, Juelicher };
 
 struct MembraneSpec {
   std::string species;
@@ -46,7 +45,7 @@ struct MembraneSpec {
   double shear_modulus = 0, persistence = 0;
   double x0 = 1.0 / 2.2, m = 2.0;
   bool stress_free = true;
-  BendingKind bending = BendingKind::None;
+  membrane::Bending bending = membrane::Bending::None;
   double kb = 0, theta0_deg = 0, kappa = 0;
   double ka = 0, kd = 0, kv = 0, area0 = 0, volume0 = 0;
   double gamma_t = 0, gamma_c = 0, viscosity = 0;
@@ -82,7 +81,7 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
     t.number("x0", &T::x0, {0.0, 1.0, false, false}, "l0 / l_max: each edge breaks at l0 / x0 (the run stops, naming the cell and the vertex ids).").default_text("1/2.2");
     t.number("m", &T::m, {0.0, 10.0, false, true}, "Exponent of the power-law repulsion k_p / l^m.").default_text("2");
     t.boolean("stress_free", &T::stress_free, "Per-edge rest lengths and per-triangle rest areas from the initial mesh (true), or the mean edge length and the mean triangle area for all (false).");
-    t.choice("bending", &T::bending, {{"none", BendingKind::None}, {"kantor-nelson", BendingKind::KantorNelson}, {"juelicher", BendingKind::Juelicher}}, "`kantor-nelson`: U = kb [1 - cos(theta - theta0)] per edge; `juelicher`: U = 2 kappa sum_i M_i^2 / A_i (8 pi kappa for a sphere).")
+    t.choice("bending", &T::bending, {{"none", membrane::Bending::None}, {"kantor-nelson", membrane::Bending::KantorNelson}, {"juelicher", membrane::Bending::Juelicher}}, "`kantor-nelson`: U = kb [1 - cos(theta - theta0)] per edge; `juelicher`: U = 2 kappa sum_i M_i^2 / A_i (8 pi kappa for a sphere).")
         .default_text("\"none\"");
     t.number("kb", &T::kb, keys::kNonNegative, "Kantor-Nelson bending constant (2 kappa / sqrt(3) for a rigidity kappa).");
     t.number("theta0", &T::theta0_deg, {-180.0, 180.0, true, true}, "Kantor-Nelson spontaneous angle between neighbouring triangles' normals.").unit("degrees");
@@ -107,29 +106,29 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
   return table;
 }
 
-int species_of(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
+// The index of the [[species]] named by membrane[k].<role>, a fluid with no particles of its own, or one
+// error naming the key.
+int named_species(const std::string& name, const SimulationSpec& spec, const std::string& key, const char* own) {
   for (std::size_t s = 0; s < spec.species.size(); ++s)
-    if (spec.species[s].name == c.species) {
-      const SpeciesSpec& sp = spec.species[s];
-      if (sp.frozen) keys::fail(key + ".species", "\"" + c.species + "\"", "a frozen species is not integrated");
-      if (sp.count > 0) keys::fail(key + ".species", "\"" + c.species + "\"", "the species has particles of its own (density or count); give the vertices a species of their own");
+    if (spec.species[s].name == name) {
+      if (spec.species[s].frozen) keys::fail(key, "\"" + name + "\"", "a frozen species is not integrated");
+      if (spec.species[s].count > 0)
+        keys::fail(key, "\"" + name + "\"", std::string("the species has particles of its own (density or count); ") + own);
       return static_cast<int>(s);
     }
-  keys::fail(key + ".species", "\"" + c.species + "\"", "no [[species]] of that name");
+  keys::fail(key, "\"" + name + "\"", "no [[species]] of that name");
   return -1;
 }
 
+int species_of(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
+  return named_species(c.species, spec, key + ".species", "give the vertices a species of their own");
+}
+
 int inner_species_of(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
-  for (std::size_t s = 0; s < spec.species.size(); ++s)
-    if (spec.species[s].name == c.inner_species) {
-      const SpeciesSpec& sp = spec.species[s];
-      if (sp.frozen) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "a frozen species is not a fluid");
-      if (sp.count > 0) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "the species has particles of its own (density or count); the inner fluid's particles are those found inside the cell");
-      if (c.inner_species == c.species) keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "that is the species of the cell's vertices");
-      return static_cast<int>(s);
-    }
-  keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "no [[species]] of that name");
-  return -1;
+  if (c.inner_species == c.species)
+    keys::fail(key + ".inner_species", "\"" + c.inner_species + "\"", "that is the species of the cell's vertices");
+  return named_species(c.inner_species, spec, key + ".inner_species",
+                       "the inner fluid's particles are those found inside the cell");
 }
 
 // The cell's mesh, placed: generated or read, the red cell turned to its axis, moved to `center`.
@@ -163,9 +162,7 @@ membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double me
   p.persistence = c.persistence > 0 ? c.persistence
                   : c.shear_modulus > 0 ? membrane::persistence_for(c.shear_modulus, mean_length, c.x0, kT, c.m)
                                         : 0.0;
-  p.bending = c.bending == BendingKind::KantorNelson ? membrane::Bending::KantorNelson
-              : c.bending == BendingKind::Juelicher  ? membrane::Bending::Juelicher
-                                                     : membrane::Bending::None;
+  p.bending = c.bending;
   p.kb = c.kb;
   p.theta0 = c.theta0_deg * std::numbers::pi / 180.0;
   p.kappa = c.kappa;
@@ -175,7 +172,7 @@ membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double me
   p.area0 = c.area0;
   p.volume0 = c.volume0;
   if (c.viscosity > 0) {
-    p.gamma_t = 12.0 * c.viscosity / (13.0 * std::sqrt(3.0));
+    p.gamma_t = c.viscosity / membrane::membrane_viscosity(1.0, 1.0 / 3.0);  // eta_m is linear in gamma_T
     p.gamma_c = p.gamma_t / 3.0;
   } else {
     p.gamma_t = c.gamma_t;
@@ -354,13 +351,11 @@ struct Movers {
   }
 };
 
-// The shift by whole periods that brings the wrapped position r next to the unwrapped point near.
+// The shift by whole periods that brings the wrapped position r next to the unwrapped point near (core's
+// minimum image of near - r taken off near - r).
 Vec3 image_shift(const Box& box, Vec3 r, Vec3 near) {
-  Vec3 s;
-  if (box.periodic[0]) s.x = box.len.x * std::round((near.x - r.x) / box.len.x);
-  if (box.periodic[1]) s.y = box.len.y * std::round((near.y - r.y) / box.len.y);
-  if (box.periodic[2]) s.z = box.len.z * std::round((near.z - r.z) / box.len.z);
-  return s;
+  const auto along = [&](int d, double diff) { return diff - minimum_image(diff, box.image_len(d), box.half_image_len(d)); };
+  return {along(0, near.x - r.x), along(1, near.y - r.y), along(2, near.z - r.z)};
 }
 
 // Which local movers lie inside each cell (winding number > 1/2), as sorted global ids over all ranks.
@@ -389,8 +384,7 @@ std::vector<std::vector<std::uint32_t>> inside_ids(const StepContext& ctx, const
     if (ctx.comm.distributed()) {
       std::vector<std::byte> bytes(mine.size() * sizeof(std::uint32_t));
       std::memcpy(bytes.data(), mine.data(), bytes.size());
-      const std::vector<std::byte> got = ctx.comm.gather(bytes);
-      std::vector<std::byte> every = got;
+      std::vector<std::byte> every = ctx.comm.gather(bytes);
       ctx.comm.broadcast(every);
       mine.resize(every.size() / sizeof(std::uint32_t));
       std::memcpy(mine.data(), every.data(), every.size());
