@@ -420,16 +420,22 @@ class MembraneBounceStage final : public Stage {
     // How far a path's end may lie from a triangle it meets: the particle's move, or after a contact
     // (velocity h - (2 mu / m)(h - u), 2 mu / m <= 2) at most its speed plus twice the fastest vertex's.
     double fastest = 0, vertex_fastest = 0;
+    std::size_t moving = 0;
     for (std::size_t i = 0; i < p.n_local; ++i)
-      if (movers_(p, i)) fastest = std::max(fastest, norm(Vec3{p.hx[i], p.hy[i], p.hz[i]}));
+      if (movers_(p, i)) {
+        fastest = std::max(fastest, norm(Vec3{p.hx[i], p.hy[i], p.hz[i]}));
+        ++moving;
+      }
     for (const Vec3& v : h) vertex_fastest = std::max(vertex_fastest, norm(v));
-    bin_triangles(box, x1, h, dt, dt * (fastest + 2 * vertex_fastest) + 1e-9);
     std::vector<double> hits;  // per contact: particle id, three vertex indices, three weights, dp
+    // A rank with no solvent (a membrane alone) has nothing to test; it still takes part in the gather.
+    if (moving > 0) bin_triangles(box, x1, h, dt, dt * (fastest + 2 * vertex_fastest) + 1e-9);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
-    for (std::size_t i = 0; i < p.n_local; ++i) {
+    for (std::size_t i = 0; i < p.n_local && moving > 0; ++i) {
       if (!movers_(p, i)) continue;
       const Vec3 r{p.x[i], p.y[i], p.z[i]};
-      if (!occupied_[bin_of(box, r)]) continue;
+      const std::size_t bin = bin_of(box, r);
+      if (bin_start_[bin] == bin_start_[bin + 1]) continue;
       // The path of this step, then after each contact the rest of the step from the contact point with
       // the reflected velocity, until a path meets nothing (at most kRounds contacts).
       Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
@@ -501,7 +507,6 @@ class MembraneBounceStage final : public Stage {
       if (rounds == kRounds) ++unresolved_;
       place(p, i, end, hcur, last_corners, last_side, last_shift, x1, box);
     }
-    for (const Entry& e : entries_) occupied_[e.bin] = 0;
     bounces_ += hits.size() / kWidth;
     give_to_vertices(ctx, hits);
   }
@@ -539,7 +544,7 @@ class MembraneBounceStage final : public Stage {
 
   void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
     for (int d = 0; d < 3; ++d) bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d)));
-    occupied_.resize(bins_[0] * bins_[1] * bins_[2], 0);
+    const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
     entries_.clear();
     if (tri_offset_.empty()) {
       tri_offset_.push_back(0);
@@ -583,26 +588,26 @@ class MembraneBounceStage final : public Stage {
                                 (static_cast<double>(k) + 0.5) * box.len.z / static_cast<double>(bins_[2])};
               const std::size_t b = bin_of(box, centre);
               entries_.push_back({b, c, t});
-              occupied_[b] = 1;
             }
       }
     }
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
-      return a.bin != b.bin ? a.bin < b.bin : (a.cell != b.cell ? a.cell < b.cell : a.triangle < b.triangle);
-    });
-    entries_.erase(std::unique(entries_.begin(), entries_.end(),
-                               [](const Entry& a, const Entry& b) { return a.bin == b.bin && a.cell == b.cell && a.triangle == b.triangle; }),
-                   entries_.end());
+    // A counting sort by bin, stable, so each bin lists its triangles in (cell, triangle) order: the
+    // order in which candidates are tried, and so the contact chosen between equal times, never depends
+    // on the thread or rank count. A triangle enters a bin at most once: its bin range is either the
+    // whole axis or shorter than it, so the wrapped indices along each axis are distinct.
+    bin_start_.assign(n_bins + 1, 0);
+    for (const Entry& e : entries_) ++bin_start_[e.bin + 1];
+    for (std::size_t b = 0; b < n_bins; ++b) bin_start_[b + 1] += bin_start_[b];
+    cursor_.assign(bin_start_.begin(), bin_start_.end() - 1);
+    binned_.resize(entries_.size());
+    for (const Entry& e : entries_) binned_[cursor_[e.bin]++] = {e.cell, e.triangle};
   }
 
   // The triangles whose swept boxes (widened by the reach) cover the bin of the point r (wrapped or not).
   void candidates_near(const Box& box, Vec3 r, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
-    out.clear();
     const std::size_t bin = bin_of(box, r);
-    if (!occupied_[bin]) return;
-    auto range = std::equal_range(entries_.begin(), entries_.end(), Entry{bin, 0, 0},
-                                  [](const Entry& a, const Entry& b) { return a.bin < b.bin; });
-    for (auto it = range.first; it != range.second; ++it) out.emplace_back(it->cell, it->triangle);
+    out.assign(binned_.begin() + static_cast<std::ptrdiff_t>(bin_start_[bin]),
+               binned_.begin() + static_cast<std::ptrdiff_t>(bin_start_[bin + 1]));
   }
 
   // Puts particle i at the end of its bounced path (in the frame of the last triangle met: shift) with
@@ -674,8 +679,9 @@ class MembraneBounceStage final : public Stage {
   VertexGather gather_;
   std::vector<Vec3> momentum_;
   std::array<std::size_t, 3> bins_{1, 1, 1};
-  std::vector<char> occupied_;
-  std::vector<Entry> entries_;
+  std::vector<Entry> entries_;                                  // (bin, cell, triangle) in triangle order
+  std::vector<std::size_t> bin_start_, cursor_;                 // bin b's triangles: binned_[bin_start_[b] .. b + 1)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> binned_;  // (cell, triangle) by bin
   std::vector<std::size_t> tri_offset_;  // the first triangle of each cell in swept_
   std::vector<Box3> swept_;              // each triangle's box over this step's move
   std::uint64_t bounces_ = 0, unresolved_ = 0;
