@@ -419,93 +419,34 @@ class MembraneBounceStage final : public Stage {
     const Box& box = ctx.box;
     // How far a path's end may lie from a triangle it meets: the particle's move, or after a contact
     // (velocity h - (2 mu / m)(h - u), 2 mu / m <= 2) at most its speed plus twice the fastest vertex's.
-    double fastest = 0, vertex_fastest = 0;
+    double fastest2 = 0, vertex_fastest = 0;
     std::size_t moving = 0;
-    for (std::size_t i = 0; i < p.n_local; ++i)
-      if (movers_(p, i)) {
-        fastest = std::max(fastest, norm(Vec3{p.hx[i], p.hy[i], p.hz[i]}));
+    const auto n_local = static_cast<std::ptrdiff_t>(p.n_local);
+#pragma omp parallel for schedule(static) reduction(max : fastest2) reduction(+ : moving)
+    for (std::ptrdiff_t i = 0; i < n_local; ++i)
+      if (movers_(p, static_cast<std::size_t>(i))) {
+        fastest2 = std::max(fastest2, p.hx[i] * p.hx[i] + p.hy[i] * p.hy[i] + p.hz[i] * p.hz[i]);
         ++moving;
       }
     for (const Vec3& v : h) vertex_fastest = std::max(vertex_fastest, norm(v));
     std::vector<double> hits;  // per contact: particle id, three vertex indices, three weights, dp
     // A rank with no solvent (a membrane alone) has nothing to test; it still takes part in the gather.
-    if (moving > 0) bin_triangles(box, x1, h, dt, dt * (fastest + 2 * vertex_fastest) + 1e-9);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
-    for (std::size_t i = 0; i < p.n_local && moving > 0; ++i) {
-      if (!movers_(p, i)) continue;
-      const Vec3 r{p.x[i], p.y[i], p.z[i]};
-      const std::size_t bin = bin_of(box, r);
-      if (bin_start_[bin] == bin_start_[bin + 1]) continue;
-      // The path of this step, then after each contact the rest of the step from the contact point with
-      // the reflected velocity, until a path meets nothing (at most kRounds contacts).
-      Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
-      Vec3 end = r, start = r - dt * hcur;
-      double t0 = 0;
-      std::uint32_t last_cell = ~0u, last_tri = ~0u;
-      std::array<std::uint32_t, 3> last_corners{};
-      Vec3 last_shift;
-      double last_side = 1.0;
-      int rounds = 0;
-      const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
-      for (; rounds < kRounds; ++rounds) {
-        candidates_near(box, end, candidates);
-        double best = 2.0;
-        membrane::Hit hit;
-        std::array<std::uint32_t, 3> corners{};
-        std::uint32_t hit_cell = 0, hit_tri = 0;
-        Vec3 shift;
-        for (const auto& [c, t] : candidates) {
-          if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
-          const std::array<std::uint32_t, 3> v = corners_of(c, t);
-          const Vec3 s = image_shift(box, end, x1[v[0]]);
-          // Most candidates are ruled out by their swept boxes.
-          const Box3& tb = swept_[tri_offset_[c] + t];
-          const Vec3 ps = start + s, pe = end + s;
-          if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
-              std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
-            continue;
-          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
-          const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
-          if (a && a->t < best) {
-            best = a->t;
-            hit = *a;
-            corners = v;
-            shift = s;
-            hit_cell = c;
-            hit_tri = t;
-          }
-        }
-        if (best > 1.0) break;
-        const Vec3 contact = start + best * (end - start);
-        const Vec3 u = hit.w[0] * h[corners[0]] + hit.w[1] * h[corners[1]] + hit.w[2] * h[corners[2]];
-        // An elastic collision with the contact point, whose mass is M = 1 / sum_k w_k^2 / m_k: the
-        // velocity relative to it reversed in the frame of their centre of mass, which conserves momentum
-        // and energy (the full bounce-back 2 u - h of an immovable wall would heat the membrane).
-        const double mv = ctx.species_mass[cells_[hit_cell].species];
-        const double big_m = mv / (hit.w[0] * hit.w[0] + hit.w[1] * hit.w[1] + hit.w[2] * hit.w[2]);
-        const double mu = m * big_m / (m + big_m);
-        const Vec3 hn = hcur - (2.0 * mu / m) * (hcur - u);
-        const Vec3 dp = m * (hn - hcur);
-        // The side the particle came from, by its approach to the triangle at the time of contact.
-        {
-          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - (t0 + best * (1.0 - t0))) * dt) * h[k]; };
-          const Vec3 n = cross(at(corners[1]) - at(corners[0]), at(corners[2]) - at(corners[0]));
-          last_side = dot(hcur - u, n) > 0 ? -1.0 : 1.0;
-        }
-        hits.insert(hits.end(), {static_cast<double>(p.id[i]), static_cast<double>(corners[0]), static_cast<double>(corners[1]),
-                                 static_cast<double>(corners[2]), hit.w[0], hit.w[1], hit.w[2], dp.x, dp.y, dp.z});
-        t0 += best * (1.0 - t0);
-        start = contact;
-        end = contact + ((1.0 - t0) * dt) * hn;
-        hcur = hn;
-        last_cell = hit_cell;
-        last_tri = hit_tri;
-        last_corners = corners;
-        last_shift = shift;
+    if (moving > 0) {
+      bin_triangles(box, x1, h, dt, dt * (std::sqrt(fastest2) + 2 * vertex_fastest) + 1e-9);
+      // Threads take particles in blocks and keep their contacts apart; give_to_vertices orders all
+      // contacts by particle id, so the vertices' kicks do not depend on the thread count.
+      std::uint64_t unresolved = 0;
+#pragma omp parallel reduction(+ : unresolved)
+      {
+        std::vector<double> mine;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;  // scratch
+#pragma omp for schedule(static) nowait
+        for (std::ptrdiff_t i = 0; i < n_local; ++i)
+          unresolved += bounce_particle(ctx, static_cast<std::size_t>(i), x1, h, mine, candidates);
+#pragma omp critical(membrane_bounce_hits)
+        hits.insert(hits.end(), mine.begin(), mine.end());
       }
-      if (rounds == 0) continue;
-      if (rounds == kRounds) ++unresolved_;
-      place(p, i, end, hcur, last_corners, last_side, last_shift, x1, box);
+      unresolved_ += unresolved;
     }
     bounces_ += hits.size() / kWidth;
     give_to_vertices(ctx, hits);
@@ -515,6 +456,90 @@ class MembraneBounceStage final : public Stage {
   std::uint64_t unresolved() const { return unresolved_; }  // paths with kRounds contacts in a step (not tested further)
 
  private:
+  // Particle i's path of this step against the binned triangles: its contacts appended to `hits`, the
+  // particle moved to the end of its bounced path. Returns 1 when the path still had contacts after
+  // kRounds of them (not tested further), else 0.
+  int bounce_particle(StepContext& ctx, std::size_t i, const std::vector<Vec3>& x1, const std::vector<Vec3>& h,
+                      std::vector<double>& hits, std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates) const {
+    ParticleData& p = ctx.particles;
+    const Box& box = ctx.box;
+    const double dt = ctx.dt;
+    if (!movers_(p, i)) return 0;
+    const Vec3 r{p.x[i], p.y[i], p.z[i]};
+    const std::size_t bin = bin_of(box, r);
+    if (bin_start_[bin] == bin_start_[bin + 1]) return 0;
+    // The path of this step, then after each contact the rest of the step from the contact point with
+    // the reflected velocity, until a path meets nothing (at most kRounds contacts).
+    Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
+    Vec3 end = r, start = r - dt * hcur;
+    double t0 = 0;
+    std::uint32_t last_cell = ~0u, last_tri = ~0u;
+    std::array<std::uint32_t, 3> last_corners{};
+    Vec3 last_shift;
+    double last_side = 1.0;
+    int rounds = 0;
+    const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
+    for (; rounds < kRounds; ++rounds) {
+      candidates_near(box, end, candidates);
+      double best = 2.0;
+      membrane::Hit hit;
+      std::array<std::uint32_t, 3> corners{};
+      std::uint32_t hit_cell = 0, hit_tri = 0;
+      Vec3 shift;
+      for (const auto& [c, t] : candidates) {
+        if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
+        const std::array<std::uint32_t, 3> v = corners_of(c, t);
+        const Vec3 s = image_shift(box, end, x1[v[0]]);
+        // Most candidates are ruled out by their swept boxes.
+        const Box3& tb = swept_[tri_offset_[c] + t];
+        const Vec3 ps = start + s, pe = end + s;
+        if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
+            std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
+          continue;
+        const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
+        const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
+        if (a && a->t < best) {
+          best = a->t;
+          hit = *a;
+          corners = v;
+          shift = s;
+          hit_cell = c;
+          hit_tri = t;
+        }
+      }
+      if (best > 1.0) break;
+      const Vec3 contact = start + best * (end - start);
+      const Vec3 u = hit.w[0] * h[corners[0]] + hit.w[1] * h[corners[1]] + hit.w[2] * h[corners[2]];
+      // An elastic collision with the contact point, whose mass is M = 1 / sum_k w_k^2 / m_k: the
+      // velocity relative to it reversed in the frame of their centre of mass, which conserves momentum
+      // and energy (the full bounce-back 2 u - h of an immovable wall would heat the membrane).
+      const double mv = ctx.species_mass[cells_[hit_cell].species];
+      const double big_m = mv / (hit.w[0] * hit.w[0] + hit.w[1] * hit.w[1] + hit.w[2] * hit.w[2]);
+      const double mu = m * big_m / (m + big_m);
+      const Vec3 hn = hcur - (2.0 * mu / m) * (hcur - u);
+      const Vec3 dp = m * (hn - hcur);
+      // The side the particle came from, by its approach to the triangle at the time of contact.
+      {
+        const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - (t0 + best * (1.0 - t0))) * dt) * h[k]; };
+        const Vec3 n = cross(at(corners[1]) - at(corners[0]), at(corners[2]) - at(corners[0]));
+        last_side = dot(hcur - u, n) > 0 ? -1.0 : 1.0;
+      }
+      hits.insert(hits.end(), {static_cast<double>(p.id[i]), static_cast<double>(corners[0]), static_cast<double>(corners[1]),
+                               static_cast<double>(corners[2]), hit.w[0], hit.w[1], hit.w[2], dp.x, dp.y, dp.z});
+      t0 += best * (1.0 - t0);
+      start = contact;
+      end = contact + ((1.0 - t0) * dt) * hn;
+      hcur = hn;
+      last_cell = hit_cell;
+      last_tri = hit_tri;
+      last_corners = corners;
+      last_shift = shift;
+    }
+    if (rounds == 0) return 0;
+    place(p, i, end, hcur, last_corners, last_side, last_shift, x1, box);
+    return rounds == kRounds ? 1 : 0;
+  }
+
   static constexpr std::size_t kWidth = 10;
   static constexpr int kRounds = 4;
   struct Entry {
@@ -535,6 +560,7 @@ class MembraneBounceStage final : public Stage {
   std::size_t bin_index(const Box& box, int d, double v) const {
     const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
     long k = static_cast<long>(std::floor(v / box.length(d) * static_cast<double>(n)));
+    if (k >= 0 && k < n) return static_cast<std::size_t>(k);  // a wrapped position: no integer division
     k = box.periodic[static_cast<std::size_t>(d)] ? ((k % n) + n) % n : std::clamp(k, 0L, n - 1);
     return static_cast<std::size_t>(k);
   }
