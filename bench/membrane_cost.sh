@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
-# What a red cell costs (issue 28's performance targets): one 492-vertex red cell (D = 8) in 98,304
-# solvent particles (32^3 at rho = 3, the fluid of tests/membrane/membrane_in_solvent.toml), run three
-# ways in alternation: the whole model, the model without the bounce-back (`bounce = false`), and the
-# solvent alone (no [[membrane]]; the same species). The membrane's share of a step is
-# 1 - t(solvent alone) / t(whole), the bounce-back's 1 - t(no bounce) / t(whole).
-# Usage: bench/membrane_cost.sh BUILD_DIR [REPS=3] [STEPS=300] [THREADS=1]   (an idle machine, please)
+# What red cells cost (issue 28's performance targets): 492-vertex red cells (D = 8) in 98,304 solvent
+# particles (32^3 at rho = 3, the fluid of tests/membrane/membrane_in_solvent.toml): CASE `single`, one
+# cell in the middle; CASE `suspension`, 66 cells at a haematocrit of 20 % (the lattice of [[membrane]]
+# haematocrit). Run three ways in alternation: the whole model, the model without the bounce-back
+# (`bounce = false`), and the solvent alone (no [[membrane]]; the same species). The membrane's share of
+# a step is 1 - t(solvent alone) / t(whole), the bounce-back's 1 - t(no bounce) / t(whole). The times
+# include the start-up's inside/outside test (about 0.5 s for the suspension): use 300 steps or more.
+# Usage: bench/membrane_cost.sh BUILD_DIR [REPS=3] [STEPS=300] [THREADS=1] [CASE=single]   (an idle machine, please)
 set -euo pipefail
 build=$1
 reps=${2:-3}
 steps=${3:-300}
 threads=${4:-1}
+case=${5:-single}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cat > "$work/whole.toml" <<TOML
@@ -56,12 +59,17 @@ kd = 100.0
 kv = 5000.0
 viscosity = 20.0
 TOML
+if [ "$case" = suspension ]; then
+  sed -i 's/^center = .*/haematocrit = 0.2/' "$work/whole.toml"
+elif [ "$case" != single ]; then
+  echo "CASE is single or suspension, not $case" >&2; exit 2
+fi
 sed -e '/^\[\[membrane\]\]/a bounce = false' "$work/whole.toml" > "$work/nobounce.toml"
 sed -e '/^\[\[membrane\]\]/,$d' "$work/whole.toml" > "$work/solvent.toml"
 secs() {  # seconds of the step loop of one run
   "$build/mesodpd" run "$1" --out "$work/out" --threads "$threads" 2>/dev/null | sed -n 's/^done: [0-9]* steps in \([0-9.e+]*\) s.*/\1/p'
 }
-echo "# one red cell (492 vertices) in 98,304 solvent, $steps steps, $threads thread(s); seconds and shares of the step"
+echo "# $case: red cells of 492 vertices in 98,304 solvent, $steps steps, $threads thread(s); seconds and shares of the step"
 echo "# rep whole no_bounce solvent_alone membrane_share bounce_share"
 for rep in $(seq 1 "$reps"); do
   w=$(secs "$work/whole.toml")

@@ -1,14 +1,18 @@
 // [[membrane]]: closed elastic membranes (red cells, vesicles) whose vertices are particles of the run
-// (membrane/membrane_forces.hpp has the forces). Each block is one cell: its mesh is generated or read,
-// placed at `center` (Model::place gives its vertices ids after the molecules), and a Forces stage adds
-// the membrane forces to its vertices every step. The stage gathers the vertices of every cell in id
+// (membrane/membrane_forces.hpp has the forces). Each block is one cell at `center`, or many cells of the
+// same mesh and parameters (a `cells_file`, or a lattice at a `haematocrit`): each cell's mesh is generated
+// or read and placed (Model::place gives its vertices ids after the molecules, cell after cell), and a
+// Forces stage adds the membrane forces to its vertices every step. The stage gathers the vertices of every cell in id
 // order (under MPI every rank receives all of them), evaluates each cell whole, in mesh order, and adds
 // the forces to the vertices it owns: the result does not depend on thread or rank count.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <iterator>
+#include <optional>
+#include <sstream>
 #include <memory>
 #include <numbers>
 #include <span>
@@ -40,7 +44,9 @@ struct MembraneSpec {
   std::string file;
   std::uint64_t vertices = 500;
   double diameter = 0;
-  std::array<double, 3> center{0, 0, 0};
+  std::optional<std::array<double, 3>> center;
+  std::string cells_file;
+  std::optional<double> haematocrit;
   int axis = 2;
   double shear_modulus = 0, persistence = 0;
   double x0 = 1.0 / 2.2, m = 2.0;
@@ -70,11 +76,13 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
         .required("(a [[species]] name)");
     t.choice("mesh", &T::mesh, {{"red_cell", MeshKind::RedCell}, {"sphere", MeshKind::Sphere}, {"file", MeshKind::File}}, "`red_cell`: the Evans-Fung biconcave shape (Evans & Fung 1972) of `diameter`, its axis along `axis`; `sphere`: a geodesic sphere of `diameter`; `file`: the closed triangle mesh of an OFF file (`file`), used as it is, moved to `center`. The generated meshes have 10 n^2 + 2 vertices, n chosen to come nearest `vertices` (500 -> 492, 1000 -> 1002, 3000 -> 2892). The mesh is also the stress-free reference shape (`stress_free`).")
         .default_text("\"red_cell\"");
-    t.string("file", &T::file, "The OFF file of `mesh = \"file\"` (triangles only, closed, consistently oriented; inward-facing files are turned round).");
+    t.string("file", &T::file, "The OFF file of `mesh = \"file\"` (triangles only, closed, consistently oriented; inward-facing files are turned round). A relative path is relative to the config file's directory.");
     t.integer("vertices", &T::vertices, {4, 200000}, "Vertex count wanted for a generated mesh.").default_text("500");
     t.number("diameter", &T::diameter, keys::kNonNegative, "Diameter of a generated mesh (7.82 um for a human red cell).");
-    t.vec3("center", &T::center, keys::kFinite, "Where the cell's centroid starts (the mesh's centre of its vertices).")
-        .required("(a position, e.g. [16, 16, 16])");
+    t.vec3("center", &T::center, keys::kFinite, "Where the cell's centroid starts (the mesh's centre of its vertices). Give this, `cells_file` or `haematocrit`.")
+        .default_text("(one of center, cells_file, haematocrit)");
+    t.string("cells_file", &T::cells_file, "Many cells of this block's mesh and parameters, one per line of a text file: `x y z` (the centroid) or `x y z ax ay az` (and the direction onto which the mesh's z axis, the red cell's symmetry axis, is turned); `#` starts a comment. Each cell is a molecule of its own with its own row in cells.csv. A relative path is relative to the config file's directory. Cells whose meshes overlap (a vertex of one inside another, at the nearest periodic image) are refused naming both lines.");
+    t.number("haematocrit", &T::haematocrit, {0.0, 0.6, false, true}, "Fill the box with cells of this block at this volume fraction (the cells' enclosed volume over the box volume, walls included), all turned to `axis`, on the sites of a lattice whose spacing is the cell's extent plus one cutoff along each axis, spread evenly over the sites; refused naming the key when the lattice has too few sites. The count is the nearest integer to fraction x box volume / cell volume (at least 1).");
     t.choice("axis", &T::axis, {{"x", 0}, {"y", 1}, {"z", 2}}, "The red cell's symmetry axis.").default_text("\"z\"");
     t.number("shear_modulus", &T::shear_modulus, keys::kNonNegative, "The linear shear modulus mu0 of the WLC-POW network; sets `persistence` through the analytic modulus at the mesh's mean edge length (Fedosov et al., Biophys. J. 98, 2215 (2010); docs/physics.md). Give this or `persistence`.");
     t.number("persistence", &T::persistence, keys::kNonNegative, "The WLC persistence length p (energy scale `system.kT`). Give this or `shear_modulus`; neither: no in-plane elasticity.");
@@ -131,16 +139,47 @@ int inner_species_of(const MembraneSpec& c, const SimulationSpec& spec, const st
                        "the inner fluid's particles are those found inside the cell");
 }
 
-// The cell's mesh, placed: generated or read, the red cell turned to its axis, moved to `center`.
-membrane::Mesh cell_mesh(const MembraneSpec& c, const std::string& key) {
+// A path of the config, relative to the config file's directory.
+std::string config_path(const SimulationSpec& spec, const std::string& file) {
+  std::filesystem::path base = std::filesystem::path(spec.source).parent_path();
+  if (base.empty()) base = std::filesystem::current_path();
+  return std::filesystem::absolute(base / std::filesystem::path(file)).lexically_normal().string();
+}
+
+// Where one cell of a block starts: its centroid, and optionally the direction its mesh's z axis is
+// turned to (cells_file); `line` names the cells_file line (0: not from a file).
+struct Placement {
+  Vec3 center;
+  std::optional<Vec3> axis;
+  std::size_t line = 0;
+};
+
+// The mesh turned so that its z axis points along the unit vector a (the rotation about z x a).
+void turn_z_to(membrane::Mesh& m, Vec3 a) {
+  const Vec3 z{0, 0, 1};
+  const Vec3 k = cross(z, a);
+  const double s = norm(k), c = a.z;
+  if (s < 1e-12) {
+    if (c < 0)
+      for (Vec3& p : m.vertices) p = {p.x, -p.y, -p.z};  // half a turn about x
+    return;
+  }
+  const Vec3 u = (1.0 / s) * k;
+  for (Vec3& p : m.vertices)  // Rodrigues
+    p = c * p + s * cross(u, p) + ((1.0 - c) * dot(u, p)) * u;
+}
+
+// The cell's mesh, placed: generated or read, the red cell turned to its axis (or to the placement's),
+// moved to the placement's centre.
+membrane::Mesh cell_mesh(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key, const Placement& at) {
   membrane::Mesh m;
   try {
     if (c.mesh == MeshKind::File) {
-      m = membrane::read_off(c.file);
+      m = membrane::read_off(config_path(spec, c.file));
     } else {
       const int n = membrane::frequency_for(c.vertices);
       m = c.mesh == MeshKind::Sphere ? membrane::geodesic_sphere(n, c.diameter / 2) : membrane::red_cell(n, c.diameter);
-      if (c.axis != 2)
+      if (c.axis != 2 && !at.axis)
         for (Vec3& p : m.vertices) p = c.axis == 0 ? Vec3{p.z, p.x, p.y} : Vec3{p.y, p.z, p.x};
     }
   } catch (const membrane::MeshError& e) {
@@ -149,8 +188,113 @@ membrane::Mesh cell_mesh(const MembraneSpec& c, const std::string& key) {
   Vec3 mean;
   for (const Vec3& p : m.vertices) mean += p;
   mean = (1.0 / static_cast<double>(m.vertices.size())) * mean;
-  for (Vec3& p : m.vertices) p = p - mean + Vec3{c.center[0], c.center[1], c.center[2]};
+  for (Vec3& p : m.vertices) p = p - mean;
+  if (at.axis) turn_z_to(m, *at.axis);
+  for (Vec3& p : m.vertices) p = p + at.center;
   return m;
+}
+
+// The extent of a set of points along each axis.
+Vec3 extent(const std::vector<Vec3>& x) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const Vec3& p : x) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return hi - lo;
+}
+
+// The cells_file's lines: "x y z" or "x y z ax ay az", '#' comments; one error naming file and line.
+std::vector<Placement> read_cells_file(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  if (!in) keys::fail(key + ".cells_file", "\"" + path + "\"", "cannot read the file");
+  std::vector<Placement> out;
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::istringstream words(line);
+    std::vector<double> v;
+    std::string w;
+    while (words >> w) {
+      char* end = nullptr;
+      const double x = std::strtod(w.c_str(), &end);
+      if (end == w.c_str() || *end != '\0' || !std::isfinite(x))
+        throw ConfigError(fmt::format("{}:{}: \"{}\" is not a finite number ({}.cells_file)", path, n, w, key), key + ".cells_file");
+      v.push_back(x);
+    }
+    if (v.empty()) continue;
+    if (v.size() != 3 && v.size() != 6)
+      throw ConfigError(fmt::format("{}:{}: {} numbers; a cell is \"x y z\" or \"x y z ax ay az\" ({}.cells_file)", path, n,
+                                    v.size(), key),
+                        key + ".cells_file");
+    Placement p{{v[0], v[1], v[2]}, std::nullopt, n};
+    if (v.size() == 6) {
+      const Vec3 a{v[3], v[4], v[5]};
+      if (!(norm(a) > 0))
+        throw ConfigError(fmt::format("{}:{}: the axis ({}, {}, {}) is the zero vector ({}.cells_file)", path, n, a.x, a.y, a.z, key),
+                          key + ".cells_file");
+      p.axis = (1.0 / norm(a)) * a;
+    }
+    out.push_back(p);
+  }
+  if (out.empty()) keys::fail(key + ".cells_file", "\"" + path + "\"", "the file lists no cell");
+  return out;
+}
+
+// The lattice of a haematocrit: sites spaced by the cell's extent plus one cutoff, the cells spread
+// evenly over them (site floor(k S / n) for cell k of n, S sites, in x-fastest order).
+std::vector<Placement> lattice_cells(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
+  const membrane::Mesh m = cell_mesh(c, spec, key, Placement{});
+  const double volume = membrane::mesh_volume(m, m.vertices);
+  const double box_volume = spec.box[0] * spec.box[1] * spec.box[2];
+  const std::size_t n = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(*c.haematocrit * box_volume / volume)));
+  const Vec3 e = extent(m.vertices);
+  const double site[3] = {e.x + 1.0, e.y + 1.0, e.z + 1.0};
+  std::size_t sites[3];
+  for (int d = 0; d < 3; ++d) sites[d] = static_cast<std::size_t>(std::floor(spec.box[static_cast<std::size_t>(d)] / site[d]));
+  const std::size_t total = sites[0] * sites[1] * sites[2];
+  if (total < n)
+    keys::fail(key + ".haematocrit", fmt::format("{}", *c.haematocrit),
+               fmt::format("{} cells of volume {:.4g} are needed, but a lattice of sites {:.4g} x {:.4g} x {:.4g} (the cell's extent "
+                           "plus one cutoff) holds {} x {} x {} = {} in this box (at most {:.3g})",
+                           n, volume, site[0], site[1], site[2], sites[0], sites[1], sites[2], total,
+                           static_cast<double>(total) * volume / box_volume));
+  std::vector<Placement> out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t s = k * total / n;
+    const std::size_t i = s % sites[0], j = (s / sites[0]) % sites[1], l = s / (sites[0] * sites[1]);
+    out.push_back({{(static_cast<double>(i) + 0.5) * spec.box[0] / static_cast<double>(sites[0]),
+                    (static_cast<double>(j) + 0.5) * spec.box[1] / static_cast<double>(sites[1]),
+                    (static_cast<double>(l) + 0.5) * spec.box[2] / static_cast<double>(sites[2])},
+                   std::nullopt, 0});
+  }
+  return out;
+}
+
+// Every cell of block c: one at `center`, the lines of `cells_file`, or the lattice of `haematocrit`.
+std::vector<Placement> placements(const MembraneSpec& c, const SimulationSpec& spec, const std::string& key) {
+  const bool has_center = c.center.has_value();
+  const int given = (has_center ? 1 : 0) + (c.cells_file.empty() ? 0 : 1) + (c.haematocrit ? 1 : 0);
+  if (given == 0) keys::fail(key + ".center", "(missing)", "give the cell's centre, a cells_file or a haematocrit");
+  if (given > 1)
+    keys::fail(key + (c.haematocrit ? ".haematocrit" : ".cells_file"),
+               c.haematocrit ? fmt::format("{}", *c.haematocrit) : "\"" + c.cells_file + "\"",
+               "give one of center, cells_file and haematocrit");
+  if (has_center) return {Placement{{(*c.center)[0], (*c.center)[1], (*c.center)[2]}, std::nullopt, 0}};
+  if (!c.cells_file.empty()) return read_cells_file(config_path(spec, c.cells_file), key);
+  return lattice_cells(c, spec, key);
+}
+
+// Every cell of every block, in order (the order of their vertex ids and of cells.csv's `cell`).
+struct PlacedCell {
+  std::size_t block;
+  Placement at;
+};
+std::vector<PlacedCell> all_cells(const std::vector<MembraneSpec>& list, const SimulationSpec& spec) {
+  std::vector<PlacedCell> out;
+  for (std::size_t k = 0; k < list.size(); ++k)
+    for (const Placement& p : placements(list[k], spec, fmt::format("membrane[{}]", k))) out.push_back({k, p});
+  return out;
 }
 
 membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double mean_length) {
@@ -181,6 +325,76 @@ membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double me
   return p;
 }
 
+// "membrane[k]" and, for a cell of a cells_file or a haematocrit, which one.
+std::string cell_name(const PlacedCell& pc, std::size_t index_in_block, const MembraneSpec& c) {
+  if (pc.at.line > 0) return fmt::format("membrane[{}] (line {} of {})", pc.block, pc.at.line, c.cells_file);
+  if (c.haematocrit) return fmt::format("membrane[{}] (lattice cell {})", pc.block, index_in_block);
+  return fmt::format("membrane[{}]", pc.block);
+}
+
+// No cell larger than the box less a cutoff (it would meet its own images), and no two cells overlapping:
+// for every pair whose bounding boxes meet at the nearest periodic image, no vertex of one inside the
+// other. One error naming the cells.
+void check_overlaps(const std::vector<MembraneSpec>& list, const SimulationSpec& spec) {
+  const std::vector<PlacedCell> cells = all_cells(list, spec);
+  struct Built {
+    membrane::Mesh mesh;
+    Vec3 centre, lo, hi;  // lo, hi: the bounding box relative to the centre
+    std::string name;
+  };
+  std::vector<Built> built;
+  std::vector<std::size_t> in_block(list.size(), 0);
+  for (const PlacedCell& pc : cells) {
+    const MembraneSpec& c = list[pc.block];
+    const std::string key = fmt::format("membrane[{}]", pc.block);
+    Built b{cell_mesh(c, spec, key, pc.at), pc.at.center, {}, {}, cell_name(pc, in_block[pc.block]++, c)};
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& p : b.mesh.vertices) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    const Vec3 e = hi - lo;
+    for (int d = 0; d < 3; ++d) {
+      const double span = d == 0 ? e.x : d == 1 ? e.y : e.z;
+      if (span + 1.0 > spec.box[static_cast<std::size_t>(d)]) {
+        const std::string where = pc.at.line > 0 ? ".cells_file" : c.mesh == MeshKind::File ? ".file" : ".diameter";
+        throw ConfigError(fmt::format("{}{}: {}: the cell spans {} along {}, more than the box ({}) less one cutoff", key, where,
+                                      b.name, span, "xyz"[d], spec.box[static_cast<std::size_t>(d)]),
+                          key + where);
+      }
+    }
+    b.lo = lo - b.centre;
+    b.hi = hi - b.centre;
+    built.push_back(std::move(b));
+  }
+  auto nearest = [&](double diff, int d) {
+    const double l = spec.box[static_cast<std::size_t>(d)];
+    return spec.periodic[static_cast<std::size_t>(d)] ? diff - l * std::round(diff / l) : diff;
+  };
+  for (std::size_t a = 0; a < built.size(); ++a)
+    for (std::size_t b = a + 1; b < built.size(); ++b) {
+      const Vec3 raw = built[b].centre - built[a].centre;
+      const Vec3 d{nearest(raw.x, 0), nearest(raw.y, 1), nearest(raw.z, 2)};
+      const Vec3 blo = built[b].lo + d, bhi = built[b].hi + d;
+      if (blo.x > built[a].hi.x || bhi.x < built[a].lo.x || blo.y > built[a].hi.y || bhi.y < built[a].lo.y ||
+          blo.z > built[a].hi.z || bhi.z < built[a].lo.z)
+        continue;
+      const Vec3 shift = d - raw;  // brings b next to a
+      std::vector<Vec3> xb = built[b].mesh.vertices;
+      for (Vec3& p : xb) p = p + shift;
+      bool inside = false;
+      for (const Vec3& q : xb) inside = inside || membrane::winding_number(built[a].mesh, built[a].mesh.vertices, q) > 0.5;
+      for (const Vec3& q : built[a].mesh.vertices) inside = inside || membrane::winding_number(built[b].mesh, xb, q) > 0.5;
+      if (inside) {
+        const std::string key = fmt::format("membrane[{}]", cells[b].block);
+        const std::string where = cells[b].at.line > 0 ? ".cells_file" : list[cells[b].block].haematocrit ? ".haematocrit" : ".center";
+        throw ConfigError(fmt::format("{}{}: {} and {} overlap (a vertex of one lies inside the other)", key, where, built[a].name,
+                                      built[b].name),
+                          key + where);
+      }
+    }
+}
+
 void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec& spec) {
   for (std::size_t k = 0; k < list.size(); ++k) {
     const MembraneSpec& c = list[k];
@@ -198,21 +412,8 @@ void check_membranes(const std::vector<MembraneSpec>& list, const SimulationSpec
     if (3 * c.gamma_c < c.gamma_t)
       keys::fail(key + ".gamma_c", fmt::format("{}", c.gamma_c),
                  fmt::format("the random force needs 3 gamma_c >= gamma_t ({}): its amplitude is sqrt(3 gamma_c - gamma_t)", c.gamma_t));
-    const membrane::Mesh m = cell_mesh(c, key);
-    // A cell larger than the box would overlap its own images.
-    for (int d = 0; d < 3; ++d) {
-      double lo = 1e300, hi = -1e300;
-      for (const Vec3& p : m.vertices) {
-        const double v = d == 0 ? p.x : d == 1 ? p.y : p.z;
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-      if (hi - lo + 1.0 > spec.box[static_cast<std::size_t>(d)])
-        keys::fail(key + ".diameter", fmt::format("{}", c.diameter),
-                   fmt::format("the cell spans {} along {}, more than the box ({}) less one cutoff", hi - lo, "xyz"[d],
-                               spec.box[static_cast<std::size_t>(d)]));
-    }
   }
+  check_overlaps(list, spec);
 }
 
 // Every cell's vertices, in id order, unwrapped, and where asked their velocities: (id, x, y, z[, vx, vy,
@@ -279,6 +480,7 @@ struct Cell {
   std::vector<Vec3> external;          // tweezers force per vertex (at full strength)
   std::uint64_t ramp = 0;              // steps over which it grows from 0
   std::size_t species = 0;             // of its vertices
+  std::size_t block = 0;               // its [[membrane]] block
 };
 
 class MembraneForcesStage final : public Stage {
@@ -293,32 +495,51 @@ class MembraneForcesStage final : public Stage {
   void run(StepContext& ctx) override {
     const std::vector<Vec3>& all = gather_.gather(ctx);
     forces_.assign(all.size(), Vec3{});
-    std::vector<Vec3> x, v, f;
+    // Each cell is evaluated whole by one thread, into its own slice of forces_: the same numbers on any
+    // thread count. A broken edge is reported after the loop (the first cell in order), not thrown from it.
+    const auto n_cells = static_cast<std::ptrdiff_t>(cells_.size());
+    energies_.assign(cells_.size(), 0.0);
+    broken_.assign(cells_.size(), kIntact);
+#pragma omp parallel
+    {
+      std::vector<Vec3> x, v, f;
+#pragma omp for schedule(dynamic)
+      for (std::ptrdiff_t c = 0; c < n_cells; ++c) {
+        const Cell& cell = cells_[static_cast<std::size_t>(c)];
+        const std::size_t nv = cell.model.vertex_count(), off = cell.first - gather_.first();
+        x.assign(all.begin() + static_cast<std::ptrdiff_t>(off), all.begin() + static_cast<std::ptrdiff_t>(off + nv));
+        f.assign(nv, Vec3{});
+        std::size_t broken = 0;
+        const auto e = cell.model.forces(x, f, &broken);
+        if (!e) {
+          broken_[static_cast<std::size_t>(c)] = broken;
+          continue;
+        }
+        energies_[static_cast<std::size_t>(c)] = e->total();
+        if (cell.model.viscous()) {
+          const std::vector<Vec3>& vel = gather_.velocities();
+          v.assign(vel.begin() + static_cast<std::ptrdiff_t>(off), vel.begin() + static_cast<std::ptrdiff_t>(off + nv));
+          cell.model.viscous_forces(x, v, ctx.dt, seed_, ctx.step, cell.first, f);
+        }
+        const double share = cell.ramp > ctx.step ? static_cast<double>(ctx.step) / static_cast<double>(cell.ramp) : 1.0;
+        for (std::size_t i = 0; i < nv; ++i) forces_[off + i] = f[i] + share * cell.external[i];
+      }
+    }
     energy_ = 0;
     for (std::size_t c = 0; c < cells_.size(); ++c) {
-      const Cell& cell = cells_[c];
-      const std::size_t nv = cell.model.vertex_count(), off = cell.first - gather_.first();
-      x.assign(all.begin() + static_cast<std::ptrdiff_t>(off), all.begin() + static_cast<std::ptrdiff_t>(off + nv));
-      f.assign(nv, Vec3{});
-      std::size_t broken = 0;
-      const auto e = cell.model.forces(x, f, &broken);
-      if (!e) {
-        const membrane::Hinge& h = cell.model.hinges()[broken];
-        const double l = std::sqrt(dot(x[h.c] - x[h.b], x[h.c] - x[h.b]));
+      if (broken_[c] != kIntact) {
+        const Cell& cell = cells_[c];
+        const membrane::Hinge& h = cell.model.hinges()[broken_[c]];
+        const std::size_t off = cell.first - gather_.first();
+        const double l = norm(all[off + h.c] - all[off + h.b]);
         throw BlowUpError(ctx.step, cell.first + h.b,
-                          fmt::format("step {}: membrane[{}]: the edge between vertices {} and {} (particle ids {} and {}) is "
+                          fmt::format("step {}: cell {} (membrane[{}]): the edge between vertices {} and {} (particle ids {} and {}) is "
                                       "{:.6g} long, at or past its maximum {:.6g} (l0 / x0), where the WLC force is infinite; "
                                       "lower the time step or the forces on the cell, or raise membrane[{}].x0's room",
-                                      ctx.step, c, h.b, h.c, cell.first + h.b, cell.first + h.c, l, cell.model.max_length(broken), c));
+                                      ctx.step, c, cell.block, h.b, h.c, cell.first + h.b, cell.first + h.c, l,
+                                      cell.model.max_length(broken_[c]), cell.block));
       }
-      energy_ += e->total();
-      if (cell.model.viscous()) {
-        const std::vector<Vec3>& vel = gather_.velocities();
-        v.assign(vel.begin() + static_cast<std::ptrdiff_t>(off), vel.begin() + static_cast<std::ptrdiff_t>(off + nv));
-        cell.model.viscous_forces(x, v, ctx.dt, seed_, ctx.step, cell.first, f);
-      }
-      const double share = cell.ramp > ctx.step ? static_cast<double>(ctx.step) / static_cast<double>(cell.ramp) : 1.0;
-      for (std::size_t i = 0; i < nv; ++i) forces_[off + i] = f[i] + share * cell.external[i];
+      energy_ += energies_[c];
     }
     ParticleData& p = ctx.particles;
     const std::uint32_t first = gather_.first(), end = first + static_cast<std::uint32_t>(all.size());
@@ -338,7 +559,10 @@ class MembraneForcesStage final : public Stage {
   std::vector<Cell> cells_;
   VertexGather gather_;
   std::uint64_t seed_;
+  static constexpr std::size_t kIntact = ~std::size_t{0};
   std::vector<Vec3> forces_;
+  std::vector<double> energies_;     // per cell, summed in cell order
+  std::vector<std::size_t> broken_;  // per cell: the hinge of a broken edge, or kIntact
   double energy_ = 0;
 };
 
@@ -439,10 +663,9 @@ class MembraneBounceStage final : public Stage {
 #pragma omp parallel reduction(+ : unresolved)
       {
         std::vector<double> mine;
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;  // scratch
 #pragma omp for schedule(static) nowait
         for (std::ptrdiff_t i = 0; i < n_local; ++i)
-          unresolved += bounce_particle(ctx, static_cast<std::size_t>(i), x1, h, mine, candidates);
+          unresolved += bounce_particle(ctx, static_cast<std::size_t>(i), x1, h, mine);
 #pragma omp critical(membrane_bounce_hits)
         hits.insert(hits.end(), mine.begin(), mine.end());
       }
@@ -460,7 +683,7 @@ class MembraneBounceStage final : public Stage {
   // particle moved to the end of its bounced path. Returns 1 when the path still had contacts after
   // kRounds of them (not tested further), else 0.
   int bounce_particle(StepContext& ctx, std::size_t i, const std::vector<Vec3>& x1, const std::vector<Vec3>& h,
-                      std::vector<double>& hits, std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates) const {
+                      std::vector<double>& hits) const {
     ParticleData& p = ctx.particles;
     const Box& box = ctx.box;
     const double dt = ctx.dt;
@@ -480,7 +703,7 @@ class MembraneBounceStage final : public Stage {
     int rounds = 0;
     const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
     for (; rounds < kRounds; ++rounds) {
-      candidates_near(box, end, candidates);
+      const auto candidates = candidates_near(box, end);
       double best = 2.0;
       membrane::Hit hit;
       std::array<std::uint32_t, 3> corners{};
@@ -542,6 +765,7 @@ class MembraneBounceStage final : public Stage {
 
   static constexpr std::size_t kWidth = 10;
   static constexpr int kRounds = 4;
+  static constexpr double kBinWidth = 1.0;  // at least
   struct Entry {
     std::size_t bin;
     std::uint32_t cell, triangle;
@@ -569,7 +793,8 @@ class MembraneBounceStage final : public Stage {
   }
 
   void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
-    for (int d = 0; d < 3; ++d) bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d)));
+    for (int d = 0; d < 3; ++d)
+      bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
     const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
     entries_.clear();
     if (tri_offset_.empty()) {
@@ -601,26 +826,30 @@ class MembraneBounceStage final : public Stage {
           const double w = box.length(d) / static_cast<double>(bins_[static_cast<std::size_t>(d)]);
           from[d] = static_cast<long>(std::floor(lo[d] / w));
           to[d] = static_cast<long>(std::floor(hi[d] / w));
-          if (to[d] - from[d] + 1 >= static_cast<long>(bins_[static_cast<std::size_t>(d)])) {
+          const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
+          if (to[d] - from[d] + 1 >= n) {
             from[d] = 0;
-            to[d] = static_cast<long>(bins_[static_cast<std::size_t>(d)]) - 1;
+            to[d] = n - 1;
           }
+          if (!box.periodic[static_cast<std::size_t>(d)]) {  // a bounded axis: its end bins take what lies beyond
+            from[d] = std::clamp(from[d], 0L, n - 1);
+            to[d] = std::clamp(to[d], 0L, n - 1);
+          }
+          // The bins along this axis, wrapped as bin_index wraps their centres: distinct, as the range is
+          // shorter than the axis or is the whole axis.
+          axis_bins_[static_cast<std::size_t>(d)].clear();
+          for (long q = from[d]; q <= to[d]; ++q) axis_bins_[static_cast<std::size_t>(d)].push_back(static_cast<std::size_t>(((q % n) + n) % n));
         }
-        for (long k = from[2]; k <= to[2]; ++k)
-          for (long j = from[1]; j <= to[1]; ++j)
-            for (long i = from[0]; i <= to[0]; ++i) {
-              const Vec3 centre{(static_cast<double>(i) + 0.5) * box.len.x / static_cast<double>(bins_[0]),
-                                (static_cast<double>(j) + 0.5) * box.len.y / static_cast<double>(bins_[1]),
-                                (static_cast<double>(k) + 0.5) * box.len.z / static_cast<double>(bins_[2])};
-              const std::size_t b = bin_of(box, centre);
-              entries_.push_back({b, c, t});
-            }
+        for (const std::size_t k : axis_bins_[2])
+          for (const std::size_t j : axis_bins_[1]) {
+            const std::size_t row = (k * bins_[1] + j) * bins_[0];
+            for (const std::size_t i : axis_bins_[0]) entries_.push_back({row + i, c, t});
+          }
       }
     }
     // A counting sort by bin, stable, so each bin lists its triangles in (cell, triangle) order: the
     // order in which candidates are tried, and so the contact chosen between equal times, never depends
-    // on the thread or rank count. A triangle enters a bin at most once: its bin range is either the
-    // whole axis or shorter than it, so the wrapped indices along each axis are distinct.
+    // on the thread or rank count. A triangle enters a bin at most once (distinct indices per axis).
     bin_start_.assign(n_bins + 1, 0);
     for (const Entry& e : entries_) ++bin_start_[e.bin + 1];
     for (std::size_t b = 0; b < n_bins; ++b) bin_start_[b + 1] += bin_start_[b];
@@ -630,10 +859,9 @@ class MembraneBounceStage final : public Stage {
   }
 
   // The triangles whose swept boxes (widened by the reach) cover the bin of the point r (wrapped or not).
-  void candidates_near(const Box& box, Vec3 r, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  std::span<const std::pair<std::uint32_t, std::uint32_t>> candidates_near(const Box& box, Vec3 r) const {
     const std::size_t bin = bin_of(box, r);
-    out.assign(binned_.begin() + static_cast<std::ptrdiff_t>(bin_start_[bin]),
-               binned_.begin() + static_cast<std::ptrdiff_t>(bin_start_[bin + 1]));
+    return {binned_.data() + bin_start_[bin], binned_.data() + bin_start_[bin + 1]};
   }
 
   // Puts particle i at the end of its bounced path (in the frame of the last triangle met: shift) with
@@ -705,6 +933,7 @@ class MembraneBounceStage final : public Stage {
   VertexGather gather_;
   std::vector<Vec3> momentum_;
   std::array<std::size_t, 3> bins_{1, 1, 1};
+  std::array<std::vector<std::size_t>, 3> axis_bins_;           // scratch of bin_triangles
   std::vector<Entry> entries_;                                  // (bin, cell, triangle) in triangle order
   std::vector<std::size_t> bin_start_, cursor_;                 // bin b's triangles: binned_[bin_start_[b] .. b + 1)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> binned_;  // (cell, triangle) by bin
@@ -774,12 +1003,12 @@ std::vector<PlacedParticle> place_membranes(const SimulationSpec& spec) {
   if (!list) return out;
   std::int32_t mol = 0;
   for (const MoleculeSpec& m : spec.molecules) mol += static_cast<std::int32_t>(m.count);
-  for (std::size_t k = 0; k < list->size(); ++k) {
-    const MembraneSpec& c = (*list)[k];
-    const std::string key = fmt::format("membrane[{}]", k);
+  for (const PlacedCell& pc : all_cells(*list, spec)) {
+    const MembraneSpec& c = (*list)[pc.block];
+    const std::string key = fmt::format("membrane[{}]", pc.block);
     const int species = species_of(c, spec, key);
     ++mol;
-    for (const Vec3& p : cell_mesh(c, key).vertices) out.push_back({species, {p.x, p.y, p.z}, mol});
+    for (const Vec3& p : cell_mesh(c, spec, key, pc.at).vertices) out.push_back({species, {p.x, p.y, p.z}, mol});
   }
   return out;
 }
@@ -800,19 +1029,24 @@ void install_membrane(Installation& in) {
   std::uint32_t next = first;
   std::vector<std::uint64_t> every;
   std::vector<int> axes;
-  for (std::size_t k = 0; k < list->size(); ++k) {
-    const MembraneSpec& c = (*list)[k];
-    const std::string key = fmt::format("membrane[{}]", k);
-    membrane::Mesh mesh = cell_mesh(c, key);
-    const membrane::CellModel probe(mesh, membrane::Parameters{}, nullptr, key);
-    membrane::CellModel model(mesh, cell_parameters(c, in.spec.kT, probe.mean_length()), nullptr, key);
+  std::vector<char> bounce;
+  std::vector<std::size_t> block_of;  // per cell
+  std::vector<double> mean_length(list->size(), -1.0);  // per block: every cell of a block has the same mesh
+  for (const PlacedCell& pc : all_cells(*list, in.spec)) {
+    const MembraneSpec& c = (*list)[pc.block];
+    const std::string key = fmt::format("membrane[{}]", pc.block);
+    membrane::Mesh mesh = cell_mesh(c, in.spec, key, pc.at);
+    if (mean_length[pc.block] < 0) mean_length[pc.block] = membrane::CellModel(mesh, membrane::Parameters{}, nullptr, key).mean_length();
+    membrane::CellModel model(mesh, cell_parameters(c, in.spec.kT, mean_length[pc.block]), nullptr, key);
     const std::size_t nv = model.vertex_count();
     std::vector<Vec3> external = membrane::tweezers(mesh, c.tweezers_force, c.tweezers_fraction, c.tweezers_axis);
     cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp,
-                     static_cast<std::size_t>(species_of(c, in.spec, key))});
+                     static_cast<std::size_t>(species_of(c, in.spec, key)), pc.block});
     next += static_cast<std::uint32_t>(nv);
     every.push_back(c.output_every);
     axes.push_back(c.tweezers_axis);
+    bounce.push_back(c.bounce ? 1 : 0);
+    block_of.push_back(pc.block);
   }
   const std::uint32_t count = next - first;
   auto& stage = in.stages.add(StagePoint::Forces, std::make_unique<MembraneForcesStage>(std::move(cells), first, count, in.spec.seed));
@@ -823,19 +1057,21 @@ void install_membrane(Installation& in) {
   StepContext ctx = in.context();
   VertexGather gather(first, count);
   const std::vector<Vec3>& vertices = gather.gather(ctx);
+  std::vector<std::vector<std::uint32_t>> start;
   if (!in.restarted) {
-    const std::vector<std::vector<std::uint32_t>> start = inside_ids(ctx, stage.cells(), vertices, first, movers);
+    start = inside_ids(ctx, stage.cells(), vertices, first, movers);
     ParticleData& p = ctx.particles;
-    for (std::size_t k = 0; k < list->size(); ++k) {
-      if ((*list)[k].inner_species.empty()) continue;
-      const int inner = inner_species_of((*list)[k], in.spec, fmt::format("membrane[{}]", k));
+    for (std::size_t k = 0; k < block_of.size(); ++k) {
+      const MembraneSpec& c = (*list)[block_of[k]];
+      if (c.inner_species.empty()) continue;
+      const int inner = inner_species_of(c, in.spec, fmt::format("membrane[{}]", block_of[k]));
       for (std::size_t i = 0; i < p.n_local; ++i)
         if (p.mol[i] == 0 && movers(p, i) && std::binary_search(start[k].begin(), start[k].end(), p.id[i])) p.species[i] = inner;
     }
   }
-  auto inside = std::make_shared<const std::vector<std::vector<std::uint32_t>>>(inside_ids(ctx, stage.cells(), vertices, first, movers));
-  std::vector<char> bounce;
-  for (const MembraneSpec& c : *list) bounce.push_back(c.bounce ? 1 : 0);
+  // Relabelling moves no particle: in a new run the start is the reference.
+  auto inside = std::make_shared<const std::vector<std::vector<std::uint32_t>>>(
+      in.restarted ? inside_ids(ctx, stage.cells(), vertices, first, movers) : std::move(start));
   MembraneBounceStage* bouncer = nullptr;
   if (std::any_of(bounce.begin(), bounce.end(), [](char b) { return b != 0; }))
     bouncer = &in.stages.add(StagePoint::AfterFirstHalf, std::make_unique<MembraneBounceStage>(stage.cells(), bounce, movers, first, count));
