@@ -25,6 +25,7 @@
 #include "engine/initial_state.hpp"
 #include "engine/installer.hpp"
 #include "engine/simulation.hpp"
+#include "io/gsd_writer.hpp"
 #include "io/output_file.hpp"
 #include "parallel/comm.hpp"
 #include "membrane/bounce.hpp"
@@ -942,19 +943,28 @@ class MembraneBounceStage final : public Stage {
   std::uint64_t bounces_ = 0, unresolved_ = 0;
 };
 
-// cells.csv: the shape of every cell every `every` steps (root writes).
+// cells.csv: the shape of every cell every `every` steps; cells.gsd: the vertices of every cell at the
+// same steps (the union over the blocks), with the edges as bonds, so OVITO or VMD draw the meshes (root
+// writes both).
 class CellOutputStage final : public Stage {
  public:
   CellOutputStage(const MembraneForcesStage& forces, std::shared_ptr<const std::vector<std::vector<std::uint32_t>>> inside, Movers movers,
-                  std::vector<std::uint64_t> every, std::vector<int> axes, std::filesystem::path path, bool append,
-                  std::uint32_t first, std::uint32_t count)
+                  std::vector<std::uint64_t> every, std::vector<int> axes, const std::filesystem::path& dir, bool append,
+                  std::uint64_t start_step, std::vector<std::string> species_names, std::uint32_t first, std::uint32_t count)
       : forces_(forces), inside_(std::move(inside)), movers_(std::move(movers)), every_(std::move(every)), axes_(std::move(axes)),
-        gather_(first, count) {
+        gather_(first, count), species_names_(std::move(species_names)) {
     Comm::world().on_root([&] {
-      file_.open(path, append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
+      file_.open(dir / "cells.csv", append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
       if (!append) file_ << "step,cell,cx,cy,cz,axial,transverse,area,volume,asphericity,wrong_side\n";
       file_.flush();
+      gsd_.emplace(dir / "cells.gsd", std::vector<std::string>{"id", "species", "position", "image"}, append,
+                   append ? std::optional<std::uint64_t>(start_step) : std::nullopt);
     });
+    for (const Cell& cell : forces_.cells()) {
+      for (const membrane::Hinge& h : cell.model.hinges()) edges_.bonds.push_back({cell.first + h.b, cell.first + h.c, 0});
+      species_.insert(species_.end(), cell.model.vertex_count(), static_cast<std::int32_t>(cell.species));
+    }
+    for (std::uint32_t k = 0; k < count; ++k) ids_.push_back(first + k);
   }
   void run(StepContext& ctx) override {
     bool any = false;
@@ -974,6 +984,7 @@ class CellOutputStage final : public Stage {
                            wrong_side((*inside_)[c], now[c]));
     }
     file_.flush();
+    write_vertices(ctx, all);
   }
 
  private:
@@ -988,6 +999,39 @@ class CellOutputStage final : public Stage {
 
 
  private:
+  // One cells.gsd frame: the unwrapped vertices split into wrapped positions and image counters.
+  void write_vertices(const StepContext& ctx, const std::vector<Vec3>& all) {
+    const std::size_t n = all.size();
+    x_.resize(n), y_.resize(n), z_.resize(n), ix_.resize(n), iy_.resize(n), iz_.resize(n);
+    const auto wrap = [](double u, double len, double& w, std::int32_t& image) {
+      const double k = std::floor(u / len);
+      w = u - k * len;
+      if (w >= len) w = 0;  // rounding of a value just below a period
+      image = static_cast<std::int32_t>(k);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      wrap(all[i].x, ctx.box.len.x, x_[i], ix_[i]);
+      wrap(all[i].y, ctx.box.len.y, y_[i], iy_[i]);
+      wrap(all[i].z, ctx.box.len.z, z_[i], iz_[i]);
+    }
+    FrameView f;
+    f.step = ctx.step;
+    f.box_lo = {0, 0, 0};
+    f.box_len = {ctx.box.len.x, ctx.box.len.y, ctx.box.len.z};
+    f.periodic = {ctx.box.periodic[0], ctx.box.periodic[1], ctx.box.periodic[2]};
+    f.n = n;
+    f.id = ids_.data();
+    f.species = species_.data();
+    f.x = x_.data(), f.y = y_.data(), f.z = z_.data();
+    f.ix = ix_.data(), f.iy = iy_.data(), f.iz = iz_.data();
+    f.species_names = &species_names_;
+    f.species_mass = &ctx.species_mass;
+    f.topology = &edges_;
+    f.bond_type_names = &kEdgeType;
+    gsd_->write_frame(f);
+  }
+
+  inline static const std::vector<std::string> kEdgeType{"edge"};
   const MembraneForcesStage& forces_;
   std::shared_ptr<const std::vector<std::vector<std::uint32_t>>> inside_;
   Movers movers_;
@@ -995,6 +1039,13 @@ class CellOutputStage final : public Stage {
   std::vector<int> axes_;
   VertexGather gather_;
   OutputFile file_;
+  std::optional<GsdWriter> gsd_;
+  std::vector<std::string> species_names_;
+  Topology edges_;                  // every cell's edges, by vertex id
+  std::vector<std::uint32_t> ids_;  // first .. first + count - 1
+  std::vector<std::int32_t> species_;
+  std::vector<double> x_, y_, z_;
+  std::vector<std::int32_t> ix_, iy_, iz_;
 };
 
 std::vector<PlacedParticle> place_membranes(const SimulationSpec& spec) {
@@ -1090,10 +1141,13 @@ void install_membrane(Installation& in) {
                                        n[0], n[1], in_cells, wrong)
                          : std::string();
   });
-  if (!in.options.out_dir.empty() && std::any_of(every.begin(), every.end(), [](std::uint64_t e) { return e > 0; }))
+  if (!in.options.out_dir.empty() && std::any_of(every.begin(), every.end(), [](std::uint64_t e) { return e > 0; })) {
+    std::vector<std::string> names;
+    for (const SpeciesSpec& sp : in.spec.species) names.push_back(sp.name);
     in.stages.add(StagePoint::EndOfStep, std::make_unique<CellOutputStage>(stage, inside, movers, std::move(every), std::move(axes),
-                                                                           in.options.out_dir / "cells.csv",
-                                                                           in.restarted, first, count));
+                                                                           in.options.out_dir, in.restarted, ctx.step,
+                                                                           std::move(names), first, count));
+  }
 }
 
 }  // namespace mesodpd
