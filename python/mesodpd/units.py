@@ -11,6 +11,12 @@
 All inputs are SI (kg/mol, m^3, kg/m^3, 1/Pa, Pa s, m^2/s, K). Bad or missing inputs raise ValueError
 naming the input.
 
+A red cell's membrane in the units of a [[membrane]] run (docs/units.md, "Membranes in SI"):
+
+    c = mesodpd.units.membrane(shear_modulus=6.3e-6, bending_rigidity=2.4e-19, diameter=7.82e-6,
+                               membrane_viscosity=0.5e-6)   # um, k_BT at 310 K, ms
+    c.keys["shear_modulus"], c.from_si(193e-12, "force") # 1471.96 k_BT/um^2, 193 pN in k_BT/um
+
 Smoothed DPD takes its inputs as they are (docs/units.md, "Smoothed DPD in SI"):
 
     s = mesodpd.units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6,
@@ -22,7 +28,7 @@ import math
 from . import _core
 
 __all__ = ["map", "water", "WATER_300K", "measured_alpha", "quantities", "Mapping", "INPUTS", "sdpd",
-           "SdpdUnits"]
+           "SdpdUnits", "membrane", "MembraneUnits"]
 
 Mapping = _core.Mapping
 
@@ -154,4 +160,73 @@ def sdpd(mass_density, viscosity, temperature, spacing, sound_speed=None, flow_s
     u.viscous_limit = 0.125 * rc * rc / eta
     u.dt = 0.5 * min(u.cfl_limit, u.viscous_limit)
     u.mach = None if flow_speed is None else flow_speed / sound_speed
+    return u
+
+
+class MembraneUnits:
+    """A membrane in the units of a [[membrane]] run (membrane()): length `length` (m), energy k_B T,
+    time `time` (s); the vertex mass is a numerical choice, not mapped (docs/units.md). Attributes:
+    length, energy, time, keys (the [[membrane]] keys: diameter, shear_modulus, kappa, ka, kd, kv and
+    viscosity when a membrane viscosity is given), area_modulus and young_modulus (SI, N/m: the network's
+    K = 2 mu0 + k_a + k_d and Y = 4 K mu0 / (K + mu0), Fedosov et al. 2010), and to_si / from_si for
+    "length", "area", "volume", "time", "energy", "force", "modulus" (N/m), "membrane_viscosity" (N s/m),
+    "velocity" and "viscosity" (Pa s)."""
+
+    _DIMENSIONS = {  # (length, energy, time) exponents
+        "length": (1, 0, 0), "area": (2, 0, 0), "volume": (3, 0, 0), "time": (0, 0, 1), "energy": (0, 1, 0),
+        "force": (-1, 1, 0), "modulus": (-2, 1, 0), "membrane_viscosity": (-2, 1, 1), "velocity": (1, 0, -1),
+        "viscosity": (-3, 1, 1),
+    }
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    def _scale(self, quantity):
+        if quantity not in self._DIMENSIONS:
+            raise ValueError(f"MembraneUnits: unknown quantity '{quantity}'; quantities: {', '.join(self._DIMENSIONS)}")
+        a, b, c = self._DIMENSIONS[quantity]
+        return self.length ** a * self.energy ** b * self.time ** c
+
+    def to_si(self, value, quantity):
+        return value * self._scale(quantity)
+
+    def from_si(self, value, quantity):
+        return value / self._scale(quantity)
+
+    def toml(self):
+        """The physical lines of a [[membrane]] block (species, mesh and placement left to the config)."""
+        return "\n".join(f"{k} = {v:.6g}" for k, v in self.keys.items()) + "\n"
+
+
+def membrane(shear_modulus, bending_rigidity, diameter, temperature=310.0, length=1e-6, time=1e-3,
+             membrane_viscosity=None, ka_ratio=49.0, kd_ratio=1.0, kv_ratio=50.0):
+    """Map a membrane in SI to [[membrane]] keys: shear modulus mu0 (N/m), bending rigidity kappa (J),
+    diameter (m), temperature (K), the length and time units (m, s) and optionally the membrane's 2-D
+    shear viscosity (N s/m). The area and volume constraints are given as multiples of mu0 (k_a =
+    ka_ratio mu0, k_d = kd_ratio mu0, k_v = kv_ratio mu0 per length unit; the defaults are those of
+    examples/rbc_stretch, which hold a red cell's area and volume within 0.5 %). The engine turns
+    shear_modulus into the WLC persistence length through the network's analytic modulus at the mesh's
+    mean edge length. Raises ValueError naming a bad input."""
+    named = {"shear_modulus": shear_modulus, "bending_rigidity": bending_rigidity, "diameter": diameter,
+             "temperature": temperature, "length": length, "time": time}
+    if membrane_viscosity is not None:
+        named["membrane_viscosity"] = membrane_viscosity
+    for key, value in {**named, "ka_ratio": ka_ratio, "kd_ratio": kd_ratio, "kv_ratio": kv_ratio}.items():
+        try:
+            ok = float(value) >= 0 if key.endswith("_ratio") else float(value) > 0
+        except (TypeError, ValueError):
+            ok = False
+        if not ok or math.isinf(float(value)):
+            raise ValueError(f"units.membrane: {key} = {value!r} must be a "
+                             f"{'non-negative' if key.endswith('_ratio') else 'positive'} finite number")
+    u = MembraneUnits(length=float(length), energy=BOLTZMANN * float(temperature), time=float(time))
+    mu0 = u.from_si(shear_modulus, "modulus")
+    u.keys = {"diameter": u.from_si(diameter, "length"), "shear_modulus": mu0,
+              "kappa": u.from_si(bending_rigidity, "energy"), "ka": ka_ratio * mu0, "kd": kd_ratio * mu0,
+              "kv": kv_ratio * mu0}
+    if membrane_viscosity is not None:
+        u.keys["viscosity"] = u.from_si(membrane_viscosity, "membrane_viscosity")
+    k_area = 2.0 * mu0 + u.keys["ka"] + u.keys["kd"]
+    u.area_modulus = u.to_si(k_area, "modulus")
+    u.young_modulus = u.to_si(4.0 * k_area * mu0 / (k_area + mu0), "modulus")
     return u

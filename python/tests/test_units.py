@@ -157,3 +157,25 @@ def test_sdpd_water_at_half_a_micron_by_hand(tmp_path):
         units.sdpd(mass_density=996.5, viscosity=-1, temperature=300, spacing=0.5e-6, flow_speed=1e-3)
     with pytest.raises(ValueError, match="sound_speed"):
         units.sdpd(mass_density=996.5, viscosity=8.5e-4, temperature=300, spacing=0.5e-6)
+
+
+def test_membrane_of_a_red_cell_gives_the_keys_of_the_stretch_example():
+    # examples/rbc_stretch/stretch.toml and recovery.toml were written by hand from the same inputs
+    # (um, k_BT at 310 K, ms): the mapper must give their numbers.
+    c = units.membrane(shear_modulus=6.3e-6, bending_rigidity=2.4e-19, diameter=7.82e-6, membrane_viscosity=0.5e-6)
+    assert c.keys["diameter"] == pytest.approx(7.82, rel=1e-12)
+    assert c.keys["shear_modulus"] == pytest.approx(1471.96, rel=1e-5)
+    assert c.keys["kappa"] == pytest.approx(56.0746, rel=1e-5)
+    assert c.keys["ka"] == pytest.approx(72126.0, rel=1e-5)
+    assert c.keys["kv"] == pytest.approx(73598.0, rel=1e-5)
+    assert c.keys["viscosity"] == pytest.approx(116820.0, rel=1e-4)
+    assert c.from_si(193e-12, "force") == pytest.approx(45093.3, rel=1e-5)
+    assert c.to_si(c.from_si(109e-12, "force"), "force") == pytest.approx(109e-12, rel=1e-14)
+    # The network's area modulus K = 2 mu0 + ka + kd = 52 mu0, Young's modulus 4 K mu0 / (K + mu0).
+    assert c.area_modulus == pytest.approx(52 * 6.3e-6, rel=1e-9)
+    assert c.young_modulus == pytest.approx(4 * 52 * 6.3e-6 / 53, rel=1e-9)
+    assert "shear_modulus = 1471.96" in c.toml()
+    with pytest.raises(ValueError, match="bending_rigidity"):
+        units.membrane(shear_modulus=6.3e-6, bending_rigidity=-1, diameter=7.82e-6)
+    with pytest.raises(ValueError, match="unknown quantity"):
+        c.to_si(1.0, "charge")
