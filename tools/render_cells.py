@@ -81,12 +81,16 @@ def main():
         print("warning: some cell's 3-cycles are not its 2 V - 4 faces; drawing the edges only", file=sys.stderr)
     colours = plt.get_cmap("tab10")
     fig = plt.figure(figsize=(5.0 * len(a.frames), 5.0))
-    for k, index in enumerate(a.frames):
-        frame = traj[index]
+    frames, positions = [traj[i] for i in a.frames], []
+    for frame in frames:
         box = np.asarray(frame.configuration.box[:3], dtype=float)
         pos = np.asarray(frame.particles.position, dtype=float) + box / 2  # HOOMD's box is centred on 0
         if frame.particles.image is not None and len(frame.particles.image) == len(pos):
             pos = pos + np.asarray(frame.particles.image, dtype=float) * box
+        positions.append(pos)
+    # One scale for every panel, so that the sizes compare.
+    half = max((pos.max(axis=0) - pos.min(axis=0)).max() for pos in positions) / 2
+    for k, (frame, pos) in enumerate(zip(frames, positions)):
         ax = fig.add_subplot(1, len(a.frames), k + 1, projection="3d")
         lo, hi = pos.min(axis=0), pos.max(axis=0)
         for c, (members, tris) in enumerate(zip(cells, faces)):
@@ -98,7 +102,7 @@ def main():
             else:
                 segs = [pos[[u, v]] for u, v in bonds if u in set(members)]
                 ax.add_collection3d(Line3DCollection(segs, colors=[colour], linewidths=0.3))
-        centre, half = (lo + hi) / 2, (hi - lo).max() / 2
+        centre = (lo + hi) / 2
         ax.set_xlim(centre[0] - half, centre[0] + half)
         ax.set_ylim(centre[1] - half, centre[1] + half)
         ax.set_zlim(centre[2] - half, centre[2] + half)
