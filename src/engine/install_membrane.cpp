@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "engine/blow_up_error.hpp"
 #include "engine/initial_state.hpp"
@@ -298,14 +299,16 @@ std::vector<PlacedCell> all_cells(const std::vector<MembraneSpec>& list, const S
   return out;
 }
 
-membrane::Parameters cell_parameters(const MembraneSpec& c, double kT, double mean_length) {
+membrane::Parameters cell_parameters(const MembraneSpec& c, const SimulationSpec& spec, double mean_length) {
   membrane::Parameters p;
-  p.kT = kT;
+  p.kT = spec.kT;
+  // The random force's variates: those of the pair noise (run.noise).
+  p.noise = spec.noise == NoiseDistribution::Gaussian ? NoiseKind::Gaussian : NoiseKind::Uniform;
   p.x0 = c.x0;
   p.m = c.m;
   p.stress_free = c.stress_free;
   p.persistence = c.persistence > 0 ? c.persistence
-                  : c.shear_modulus > 0 ? membrane::persistence_for(c.shear_modulus, mean_length, c.x0, kT, c.m)
+                  : c.shear_modulus > 0 ? membrane::persistence_for(c.shear_modulus, mean_length, c.x0, spec.kT, c.m)
                                         : 0.0;
   p.bending = c.bending;
   p.kb = c.kb;
@@ -710,12 +713,18 @@ class MembraneBounceStage final : public Stage {
       std::array<std::uint32_t, 3> corners{};
       std::uint32_t hit_cell = 0, hit_tri = 0;
       Vec3 shift;
+      // The path's box, as centre and half extents, for a quick test against each candidate's swept box
+      // at the nearest image: it rejects only what the exact test below would reject (the boxes are
+      // far smaller than half the box), without reading the triangle's corners.
+      const Vec3 pc = 0.5 * (start + end);
+      const Vec3 ph{0.5 * std::abs(end.x - start.x), 0.5 * std::abs(end.y - start.y), 0.5 * std::abs(end.z - start.z)};
       for (const auto& [c, t] : candidates) {
         if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
-        const std::array<std::uint32_t, 3> v = corners_of(c, t);
-        const Vec3 s = image_shift(box, end, x1[v[0]]);
         // Most candidates are ruled out by their swept boxes.
         const Box3& tb = swept_[tri_offset_[c] + t];
+        if (!near_box(box, pc, ph, tb)) continue;
+        const std::array<std::uint32_t, 3> v = corners_of(c, t);
+        const Vec3 s = image_shift(box, end, x1[v[0]]);
         const Vec3 ps = start + s, pe = end + s;
         if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
             std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
@@ -775,6 +784,16 @@ class MembraneBounceStage final : public Stage {
     Vec3 lo, hi;
   };
 
+  // Whether the box of centre pc and half extents ph meets the box tb at tb's nearest image.
+  static bool near_box(const Box& box, Vec3 pc, Vec3 ph, const Box3& tb) {
+    const auto apart = [&](int d, double p, double half, double lo, double hi) {
+      const double gap = minimum_image(p - 0.5 * (lo + hi), box.image_len(d), box.half_image_len(d));
+      return std::abs(gap) > half + 0.5 * (hi - lo);
+    };
+    return !(apart(0, pc.x, ph.x, tb.lo.x, tb.hi.x) || apart(1, pc.y, ph.y, tb.lo.y, tb.hi.y) ||
+             apart(2, pc.z, ph.z, tb.lo.z, tb.hi.z));
+  }
+
   std::array<std::uint32_t, 3> corners_of(std::uint32_t c, std::uint32_t t) const {
     const Cell& cell = cells_[c];
     const auto& tri = cell.model.mesh().triangles[t];
@@ -797,16 +816,28 @@ class MembraneBounceStage final : public Stage {
     for (int d = 0; d < 3; ++d)
       bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
     const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
-    entries_.clear();
     if (tri_offset_.empty()) {
       tri_offset_.push_back(0);
-      for (const Cell& cell : cells_) tri_offset_.push_back(tri_offset_.back() + cell.model.mesh().triangles.size());
+      for (std::uint32_t c = 0; c < cells_.size(); ++c) {
+        tri_offset_.push_back(tri_offset_.back() + cells_[c].model.mesh().triangles.size());
+        for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) triangles_.push_back({c, t});
+      }
       swept_.resize(tri_offset_.back());
     }
-    for (std::uint32_t c = 0; c < cells_.size(); ++c) {
-      if (!bounce_[c]) continue;
-      const auto& tris = cells_[c].model.mesh().triangles;
-      for (std::uint32_t t = 0; t < tris.size(); ++t) {
+    // Threads take contiguous blocks of triangles (static schedule) and keep their entries apart; joined in
+    // thread order they are in (cell, triangle) order, as a serial loop would make them.
+    const auto n_tri = static_cast<std::ptrdiff_t>(triangles_.size());
+    const int threads = omp_get_max_threads();
+    thread_entries_.resize(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+    {
+      std::vector<Entry>& mine = thread_entries_[static_cast<std::size_t>(omp_get_thread_num())];
+      mine.clear();
+      std::array<std::vector<std::size_t>, 3> axis_bins;
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t g = 0; g < n_tri; ++g) {
+        const auto [c, t] = triangles_[static_cast<std::size_t>(g)];
+        if (!bounce_[c]) continue;
         const std::array<std::uint32_t, 3> v = corners_of(c, t);
         double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
         for (std::uint32_t k : v)
@@ -817,37 +848,37 @@ class MembraneBounceStage final : public Stage {
               hi[d] = std::max(hi[d], c3[d]);
             }
           }
-        swept_[tri_offset_[c] + t] = {{lo[0] - 1e-9, lo[1] - 1e-9, lo[2] - 1e-9}, {hi[0] + 1e-9, hi[1] + 1e-9, hi[2] + 1e-9}};
+        swept_[static_cast<std::size_t>(g)] = {{lo[0] - 1e-9, lo[1] - 1e-9, lo[2] - 1e-9}, {hi[0] + 1e-9, hi[1] + 1e-9, hi[2] + 1e-9}};
         for (int d = 0; d < 3; ++d) {
           lo[d] -= reach;
           hi[d] += reach;
         }
-        long from[3], to[3];
         for (int d = 0; d < 3; ++d) {
           const double w = box.length(d) / static_cast<double>(bins_[static_cast<std::size_t>(d)]);
-          from[d] = static_cast<long>(std::floor(lo[d] / w));
-          to[d] = static_cast<long>(std::floor(hi[d] / w));
+          long from = static_cast<long>(std::floor(lo[d] / w)), to = static_cast<long>(std::floor(hi[d] / w));
           const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
-          if (to[d] - from[d] + 1 >= n) {
-            from[d] = 0;
-            to[d] = n - 1;
+          if (to - from + 1 >= n) {
+            from = 0;
+            to = n - 1;
           }
           if (!box.periodic[static_cast<std::size_t>(d)]) {  // a bounded axis: its end bins take what lies beyond
-            from[d] = std::clamp(from[d], 0L, n - 1);
-            to[d] = std::clamp(to[d], 0L, n - 1);
+            from = std::clamp(from, 0L, n - 1);
+            to = std::clamp(to, 0L, n - 1);
           }
           // The bins along this axis, wrapped as bin_index wraps their centres: distinct, as the range is
           // shorter than the axis or is the whole axis.
-          axis_bins_[static_cast<std::size_t>(d)].clear();
-          for (long q = from[d]; q <= to[d]; ++q) axis_bins_[static_cast<std::size_t>(d)].push_back(static_cast<std::size_t>(((q % n) + n) % n));
+          axis_bins[static_cast<std::size_t>(d)].clear();
+          for (long q = from; q <= to; ++q) axis_bins[static_cast<std::size_t>(d)].push_back(static_cast<std::size_t>(((q % n) + n) % n));
         }
-        for (const std::size_t k : axis_bins_[2])
-          for (const std::size_t j : axis_bins_[1]) {
+        for (const std::size_t k : axis_bins[2])
+          for (const std::size_t j : axis_bins[1]) {
             const std::size_t row = (k * bins_[1] + j) * bins_[0];
-            for (const std::size_t i : axis_bins_[0]) entries_.push_back({row + i, c, t});
+            for (const std::size_t i : axis_bins[0]) mine.push_back({row + i, c, t});
           }
       }
     }
+    entries_.clear();
+    for (const std::vector<Entry>& part : thread_entries_) entries_.insert(entries_.end(), part.begin(), part.end());
     // A counting sort by bin, stable, so each bin lists its triangles in (cell, triangle) order: the
     // order in which candidates are tried, and so the contact chosen between equal times, never depends
     // on the thread or rank count. A triangle enters a bin at most once (distinct indices per axis).
@@ -934,7 +965,8 @@ class MembraneBounceStage final : public Stage {
   VertexGather gather_;
   std::vector<Vec3> momentum_;
   std::array<std::size_t, 3> bins_{1, 1, 1};
-  std::array<std::vector<std::size_t>, 3> axis_bins_;           // scratch of bin_triangles
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles_;  // (cell, triangle) of every triangle, in order
+  std::vector<std::vector<Entry>> thread_entries_;              // scratch of bin_triangles, per thread
   std::vector<Entry> entries_;                                  // (bin, cell, triangle) in triangle order
   std::vector<std::size_t> bin_start_, cursor_;                 // bin b's triangles: binned_[bin_start_[b] .. b + 1)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> binned_;  // (cell, triangle) by bin
@@ -1088,7 +1120,7 @@ void install_membrane(Installation& in) {
     const std::string key = fmt::format("membrane[{}]", pc.block);
     membrane::Mesh mesh = cell_mesh(c, in.spec, key, pc.at);
     if (mean_length[pc.block] < 0) mean_length[pc.block] = membrane::CellModel(mesh, membrane::Parameters{}, nullptr, key).mean_length();
-    membrane::CellModel model(mesh, cell_parameters(c, in.spec.kT, mean_length[pc.block]), nullptr, key);
+    membrane::CellModel model(mesh, cell_parameters(c, in.spec, mean_length[pc.block]), nullptr, key);
     const std::size_t nv = model.vertex_count();
     std::vector<Vec3> external = membrane::tweezers(mesh, c.tweezers_force, c.tweezers_fraction, c.tweezers_axis);
     cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp,

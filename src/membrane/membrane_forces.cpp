@@ -82,11 +82,16 @@ double kantor_nelson_kb(double kappa) { return 2.0 * kappa / std::sqrt(3.0); }
 
 double membrane_viscosity(double gamma_t, double gamma_c) { return std::sqrt(3.0) * (gamma_t + 0.25 * gamma_c); }
 
-void edge_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t a, std::uint32_t b, double w[9]) {
-  // Streams 24-26 of the pair counter (core/philox.hpp numbers the engine's streams below 16). Box-Muller
-  // on each pair of words gives two variates (the cosine and the sine branch).
+void edge_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t a, std::uint32_t b, double w[9], NoiseKind noise) {
+  // Streams 24-26 of the pair counter (core/philox.hpp numbers the engine's streams below 16). Uniform:
+  // one variate per word (the first nine of twelve). Gaussian: Box-Muller on each pair of words gives two
+  // (the cosine and the sine branch).
   for (std::uint32_t k = 0; k < 3; ++k) {
     const Philox4x32 r = pair_random_bits(seed, step, a, b, static_cast<RngStream>(24u + k));
+    if (noise == NoiseKind::Uniform) {
+      for (int h = 0; h < 4 && 4 * static_cast<int>(k) + h < 9; ++h) w[4 * k + static_cast<std::uint32_t>(h)] = uniform_unit_variance(r.v[h]);
+      continue;
+    }
     for (int h = 0; h < 2; ++h) {
       const double rad = std::sqrt(-2.0 * std::log(u01_open(r.v[2 * h])));
       const double phi = 2.0 * std::numbers::pi * u01_open(r.v[2 * h + 1]);
@@ -110,7 +115,7 @@ void CellModel::viscous_forces(const std::vector<Vec3>& x, const std::vector<Vec
     const Vec3 e = (1.0 / norm(d)) * d;
     const Vec3 vij = v[i] - v[j];
     Vec3 force = -gt * vij - (gc * dot(vij, e)) * e;
-    edge_noise(seed, step, first_id + static_cast<std::uint32_t>(i), first_id + static_cast<std::uint32_t>(j), w);
+    edge_noise(seed, step, first_id + static_cast<std::uint32_t>(i), first_id + static_cast<std::uint32_t>(j), w, params_.noise);
     const double tr3 = (w[0] + w[4] + w[8]) / 3.0;
     // dW^S . e: the symmetric part less a third of the trace on the diagonal.
     const double s01 = 0.5 * (w[1] + w[3]), s02 = 0.5 * (w[2] + w[6]), s12 = 0.5 * (w[5] + w[7]);
