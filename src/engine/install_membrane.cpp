@@ -1158,6 +1158,10 @@ void install_membrane(Installation& in) {
   MembraneBounceStage* bouncer = nullptr;
   if (std::any_of(bounce.begin(), bounce.end(), [](char b) { return b != 0; }))
     bouncer = &in.stages.add(StagePoint::AfterFirstHalf, std::make_unique<MembraneBounceStage>(stage.cells(), bounce, movers, first, count));
+  // The cells' elastic energy (bonds, bending, area and volume terms) at the last force evaluation, in
+  // thermo.csv: with kinetic_energy (and potential_energy for the pair forces) the energy a run without
+  // friction conserves (tests/membrane: membrane_energy_conserved).
+  in.thermo_columns.push_back({"membrane_energy", [&stage](const StepContext&) { return stage.energy(); }});
   in.summaries.push_back([&stage, bouncer, inside, movers, first, count](const StepContext& c) {
     std::uint64_t n[2] = {bouncer ? bouncer->bounces() : 0, bouncer ? bouncer->unresolved() : 0};
     c.comm.sum(std::span<std::uint64_t>(n, 2));
