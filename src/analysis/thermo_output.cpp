@@ -13,32 +13,6 @@
 
 namespace mesodpd {
 
-namespace {
-
-// A restarted run continues from the checkpoint's step K, but the files in the output directory may
-// go further: the run that wrote the checkpoint went on (and perhaps blew up) before the restart.
-// Output after K is dropped so that appending does not duplicate steps. Rows are in increasing step
-// order, so everything from the first one after K (or the first damaged one) goes.
-void trim_thermo_csv(const std::filesystem::path& path, std::uint64_t last_step) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line, kept;
-  bool trimmed = false;
-  for (bool header = true; std::getline(in, line); header = false) {
-    const bool complete = !in.eof();  // a last line without '\n' was cut short by a crash
-    const auto step = leading_step(line);
-    if (!complete || (!header && (!step || *step > last_step))) {
-      trimmed = true;
-      break;
-    }
-    kept += line;
-    kept += '\n';
-  }
-  in.close();
-  if (trimmed) write_file_atomically(path, [&](std::ostream& os) { os << kept; });
-}
-
-}  // namespace
-
 std::optional<std::string> temperature_warning(double mean_t, const SimulationSpec& spec, double dof,
                                                std::uint64_t samples) {
   const double deviation = mean_t / spec.kT - 1.0;
@@ -73,7 +47,7 @@ ThermoOutput::ThermoOutput(const SimulationSpec& spec, AnalysisOutput out, std::
   start.comm.on_root([&] {
     std::filesystem::create_directories(out_.dir);
     const auto path = out_ / "thermo.csv";
-    if (out_.restarted && std::filesystem::exists(path)) trim_thermo_csv(path, start.step);
+    if (out_.restarted && std::filesystem::exists(path)) trim_csv_after_step(path, start.step);
     const bool append = out_.restarted && std::filesystem::exists(path) && std::filesystem::file_size(path) > 0;
     thermo_.open(path, append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
     if (!append) {

@@ -986,8 +986,13 @@ class CellOutputStage final : public Stage {
       : forces_(forces), inside_(std::move(inside)), movers_(std::move(movers)), every_(std::move(every)), axes_(std::move(axes)),
         gather_(first, count), species_names_(std::move(species_names)) {
     Comm::world().on_root([&] {
-      file_.open(dir / "cells.csv", append ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
-      if (!append) file_ << "step,cell,cx,cy,cz,axial,transverse,area,volume,asphericity,wrong_side\n";
+      // A restart drops the rows after its step (left by the run that went on past its checkpoint) and
+      // appends; a header is written when there is no earlier file to continue.
+      const auto csv = dir / "cells.csv";
+      if (append && std::filesystem::exists(csv)) trim_csv_after_step(csv, start_step);
+      const bool resume = append && std::filesystem::exists(csv) && std::filesystem::file_size(csv) > 0;
+      file_.open(csv, resume ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
+      if (!resume) file_ << "step,cell,cx,cy,cz,axial,transverse,area,volume,asphericity,wrong_side\n";
       file_.flush();
       gsd_.emplace(dir / "cells.gsd", std::vector<std::string>{"id", "species", "position", "image"}, append,
                    append ? std::optional<std::uint64_t>(start_step) : std::nullopt);

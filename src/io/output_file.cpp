@@ -1,12 +1,15 @@
 // Implementation of OutputFile: unbuffered POSIX writes of whole rows, checked byte for byte.
 #include "io/output_file.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <utility>
 
@@ -115,6 +118,24 @@ void OutputFile::close() {
   const int err = errno;
   fd_ = -1;
   if (rc != 0 && err != EINTR) throw OutputError(path_, std::string("close failed: ") + std::strerror(err));
+}
+
+void trim_csv_after_step(const std::filesystem::path& path, std::uint64_t last_step) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, kept;
+  bool trimmed = false;
+  for (bool header = true; std::getline(in, line); header = false) {
+    const bool complete = !in.eof();  // a last line without '\n' was cut short by a crash
+    const auto step = leading_step(line);
+    if (!complete || (!header && (!step || *step > last_step))) {
+      trimmed = true;
+      break;
+    }
+    kept += line;
+    kept += '\n';
+  }
+  in.close();
+  if (trimmed) write_file_atomically(path, [&](std::ostream& os) { os << kept; });
 }
 
 std::optional<std::uint64_t> leading_step(const std::string& text) {

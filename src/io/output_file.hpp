@@ -96,4 +96,11 @@ int injected_output_fault(const std::filesystem::path& path);
 // restarted run drops the rows and frames of its files that lie after the checkpoint's step.
 std::optional<std::uint64_t> leading_step(const std::string& text);
 
+// A restarted run continues from the checkpoint's step K, but the files in the output directory may
+// go further: the run that wrote the checkpoint went on (and perhaps blew up) before the restart. This
+// drops the rows of a CSV file (a header line, then rows that start with their step, in increasing step
+// order) from the first one after K, or the first damaged one, by rewriting the file atomically, so that
+// appending does not repeat steps.
+void trim_csv_after_step(const std::filesystem::path& path, std::uint64_t last_step);
+
 }  // namespace mesodpd
