@@ -82,7 +82,33 @@ def quantities():
 BOLTZMANN = 1.380649e-23  # J/K (exact, SI 2019)
 
 
-class SdpdUnits:
+class _ScaledUnits:
+    """Reduced units given by three base units (the names in _BASES, their SI values as attributes):
+    a quantity's scale is the product of their powers in _DIMENSIONS."""
+
+    _DIMENSIONS = {}
+    _BASES = ()
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    def _scale(self, quantity):
+        if quantity not in self._DIMENSIONS:
+            raise ValueError(f"{type(self).__name__}: unknown quantity '{quantity}'; "
+                             f"quantities: {', '.join(self._DIMENSIONS)}")
+        scale = 1.0
+        for base, power in zip(self._BASES, self._DIMENSIONS[quantity]):
+            scale *= getattr(self, base) ** power
+        return scale
+
+    def to_si(self, value, quantity):
+        return value * self._scale(quantity)
+
+    def from_si(self, value, quantity):
+        return value / self._scale(quantity)
+
+
+class SdpdUnits(_ScaledUnits):
     """Smoothed DPD in reduced units from SI inputs (sdpd()). Units: length = the particle spacing
     (number density 1), mass = the particle mass rho dx^3, energy = k_B T (kT = 1), time
     tau = dx sqrt(m / k_B T). Attributes: length, mass, energy, time (SI), pair (the [pair] keys of
@@ -96,20 +122,7 @@ class SdpdUnits:
         "mass_density": (-3, 1, 0),
     }
 
-    def __init__(self, **fields):
-        self.__dict__.update(fields)
-
-    def _scale(self, quantity):
-        if quantity not in self._DIMENSIONS:
-            raise ValueError(f"SdpdUnits: unknown quantity '{quantity}'; quantities: {', '.join(self._DIMENSIONS)}")
-        a, b, c = self._DIMENSIONS[quantity]
-        return self.length ** a * self.mass ** b * self.time ** c
-
-    def to_si(self, value, quantity):
-        return value * self._scale(quantity)
-
-    def from_si(self, value, quantity):
-        return value / self._scale(quantity)
+    _BASES = ("length", "mass", "time")
 
     def toml(self):
         """The [system], [[species]], [pair] and [integrator] lines of a config (box not included)."""
@@ -163,7 +176,7 @@ def sdpd(mass_density, viscosity, temperature, spacing, sound_speed=None, flow_s
     return u
 
 
-class MembraneUnits:
+class MembraneUnits(_ScaledUnits):
     """A membrane in the units of a [[membrane]] run (membrane()): length `length` (m), energy k_B T,
     time `time` (s); the vertex mass is a numerical choice, not mapped (docs/units.md). Attributes:
     length, energy, time, keys (the [[membrane]] keys: diameter, shear_modulus, kappa, ka, kd, kv and
@@ -178,20 +191,7 @@ class MembraneUnits:
         "viscosity": (-3, 1, 1),
     }
 
-    def __init__(self, **fields):
-        self.__dict__.update(fields)
-
-    def _scale(self, quantity):
-        if quantity not in self._DIMENSIONS:
-            raise ValueError(f"MembraneUnits: unknown quantity '{quantity}'; quantities: {', '.join(self._DIMENSIONS)}")
-        a, b, c = self._DIMENSIONS[quantity]
-        return self.length ** a * self.energy ** b * self.time ** c
-
-    def to_si(self, value, quantity):
-        return value * self._scale(quantity)
-
-    def from_si(self, value, quantity):
-        return value / self._scale(quantity)
+    _BASES = ("length", "energy", "time")
 
     def toml(self):
         """The physical lines of a [[membrane]] block (species, mesh and placement left to the config)."""

@@ -24,18 +24,7 @@ if any(int(r["wrong_side"]) for r in rows): sys.exit("particles on the wrong sid
 PY
 # cells.gsd: a frame per output step with every vertex, the edges as bonds (3 V - 6 per closed cell), and
 # the picture drawn from it finds each cell's 2 V - 4 triangles again.
-/usr/bin/python3 - <<'PY'
-import sys
-import gsd.hoomd
-try:
-    t = gsd.hoomd.open("hct/cells.gsd", "r")
-except (ValueError, RuntimeError):
-    t = gsd.hoomd.open("hct/cells.gsd", "rb")
-steps = [int(f.configuration.step) for f in t]
-print("cells.gsd steps", steps, "vertices", t[0].particles.N, "edges", t[0].bonds.N)
-if steps != [50, 100, 150, 200]: sys.exit("expected frames at steps 50-200")
-if t[0].particles.N != 21 * 162 or t[0].bonds.N != 21 * (3 * 162 - 6): sys.exit("expected 21 cells of 162 vertices and 480 edges")
-PY
+/usr/bin/python3 "$src/check_cells_gsd.py" hct/cells.gsd --steps 50 100 150 200 --vertices $((21 * 162)) --edges $((21 * 480))
 /usr/bin/python3 "$2/tools/render_cells.py" hct/cells.gsd --frames 0 -1 --out hct/cells.png 2> render.err | grep -q '21 cells' \
   || { cat render.err; fail "render_cells.py"; }
 if grep -q "not its 2 V - 4 faces" render.err; then fail "render_cells.py did not find the faces"; fi
