@@ -196,14 +196,14 @@ membrane::Mesh cell_mesh(const MembraneSpec& c, const SimulationSpec& spec, cons
   return m;
 }
 
-// The extent of a set of points along each axis.
-Vec3 extent(const std::vector<Vec3>& x) {
+// The bounding box of a set of points: lowest and highest coordinate along each axis.
+std::pair<Vec3, Vec3> bounds(const std::vector<Vec3>& x) {
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (const Vec3& p : x) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  return hi - lo;
+  return {lo, hi};
 }
 
 // The cells_file's lines: "x y z" or "x y z ax ay az", '#' comments; one error naming file and line.
@@ -250,7 +250,8 @@ std::vector<Placement> lattice_cells(const MembraneSpec& c, const SimulationSpec
   const double volume = membrane::mesh_volume(m, m.vertices);
   const double box_volume = spec.box[0] * spec.box[1] * spec.box[2];
   const std::size_t n = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(*c.haematocrit * box_volume / volume)));
-  const Vec3 e = extent(m.vertices);
+  const auto [lo, hi] = bounds(m.vertices);
+  const Vec3 e = hi - lo;
   const double site[3] = {e.x + 1.0, e.y + 1.0, e.z + 1.0};
   std::size_t sites[3];
   for (int d = 0; d < 3; ++d) sites[d] = static_cast<std::size_t>(std::floor(spec.box[static_cast<std::size_t>(d)] / site[d]));
@@ -352,11 +353,7 @@ void check_overlaps(const std::vector<MembraneSpec>& list, const SimulationSpec&
     const MembraneSpec& c = list[pc.block];
     const std::string key = fmt::format("membrane[{}]", pc.block);
     Built b{cell_mesh(c, spec, key, pc.at), pc.at.center, {}, {}, cell_name(pc, in_block[pc.block]++, c)};
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const Vec3& p : b.mesh.vertices) {
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
+    const auto [lo, hi] = bounds(b.mesh.vertices);
     const Vec3 e = hi - lo;
     for (int d = 0; d < 3; ++d) {
       const double span = d == 0 ? e.x : d == 1 ? e.y : e.z;
