@@ -99,7 +99,7 @@ struct SdpdLaw {
   static constexpr std::array<std::string_view, 0> kRequired{};
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   static constexpr double kPi = 3.14159265358979323846;
-  static constexpr std::array<LawKey, 6> kOwn{{
+  static constexpr std::array<LawKey, 7> kOwn{{
       {"eta", 0.0, kInf, true, true, true, 0.0, "the shear viscosity eta (say 1)",
        "the shear viscosity eta (dynamic, mass / (length time)) that the SDPD fluid has by construction."},
       {"zeta", 0.0, kInf, true, true, false, 0.0, "",
@@ -116,10 +116,17 @@ struct SdpdLaw {
        "the background pressure p_b added to the equation of state. A positive p_b orders the particles, which "
        "brings the measured sound speed to c, but at low kT it also makes the fluid elastic and raises its shear "
        "viscosity (docs/validation.md §12)."},
+      {"interact", 0.0, 1.0, true, true, false, 1.0, "",
+       "1 (the default): the pair interacts; 0: the two species do not see each other, neither in the density "
+       "nor in any force (e.g. membrane vertices that meet the solvent only through the bounce-back); no other "
+       "value."},
   }};
+  // A pair with interact = 0 (kOwn[6]) takes no part: its density range is negative (no r is inside it, and
+  // the kernels stay finite) and its F(r) is zero, which zeroes every force term.
+  static bool excluded(const PairValues& v) { return v.own[6] == 0.0; }
   static constexpr double kMinA = 0;
   static double range(const PairValues& v) { return v.rc; }
-  static double density_range(const PairValues& v) { return v.rc; }
+  static double density_range(const PairValues& v) { return excluded(v) ? -1.0 : v.rc; }
   static Params<double> make(const PairValues& v) {
     Params<double> p;
     p.h = v.rc;
@@ -145,6 +152,10 @@ struct SdpdLaw {
     p.amp_a = std::sqrt(4.0 * v.kT * (p.alpha > 0 ? p.alpha : 0.0));
     p.amp_b = std::sqrt(2.0 * v.kT * (3.0 * p.beta - p.alpha));
     p.rcut2 = v.rc * v.rc;
+    if (excluded(v)) {
+      p.fnorm = 0;
+      p.rcut2 = 0;
+    }
     return p;
   }
   // The time-step limits of SPH (Morris, Fox & Zhu, J. Comput. Phys. 136, 214 (1997)): the sound
@@ -157,6 +168,9 @@ struct SdpdLaw {
   // Neighbours inside the kernel: n 4 pi h^3 / 3.
   static double neighbours(const PairValues& v) { return v.number_density * 4.0 * kPi / 3.0 * v.rc * v.rc * v.rc; }
   static LawProblem problem(const PairValues& v) {
+    if (v.own[6] != 0.0 && v.own[6] != 1.0)
+      return {"interact", "interact must be 1 (the pair interacts) or 0 (it does not) for {pair}, not {value}", v.own[6]};
+    if (excluded(v)) return {};
     if (v.own[1] > 5.0 * v.own[0] / 3.0)
       return {"zeta",
               "the bulk viscosity may not exceed 5 eta / 3 = {value} for {pair}: the shear friction 5 eta / 3 - zeta "
@@ -183,6 +197,7 @@ struct SdpdLaw {
   // at 42 neighbours) adds visibly to the input (docs/validation.md §12).
   static double viscosity_ratio(const PairValues& v) { return v.own[0] / (v.own[3] * v.own[2] * v.rc); }
   static LawProblem warning(const PairValues& v) {
+    if (excluded(v)) return {};
     if (v.number_density > 0 && neighbours(v) < 20)
       return {"rc",
               "{pair} has about {value} neighbours inside the kernel cutoff (n 4 pi rc^3 / 3); SPH estimates of the "

@@ -121,6 +121,8 @@ SimulationSpec three_species(PairStyle style, double s) {
       ps.own["rho0"] = 2.5 + 0.2 * kd;
       ps.own["p_b"] = 0.5 * kd;
       ps.own["eos_exponent"] = 1.0;
+      // One pair that does not interact (pair (1, 2)): no density contribution and no force either way.
+      ps.own["interact"] = k == 4 ? 0.0 : 1.0;
     }
   if (pair_law(style).style == "spdpd")
     for (std::size_t k = 0; k < spec.pairs.size(); ++k) {

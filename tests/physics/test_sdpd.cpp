@@ -41,6 +41,7 @@ SdpdPairParamsT<double> params(DensityKernelKind kernel, double h, double eta, d
   v.own[3] = rho0;
   v.own[4] = n;
   v.own[5] = 0;
+  v.own[6] = 1;  // interact
   return SdpdLaw::make(v);
 }
 
@@ -144,7 +145,7 @@ TEST(Sdpd, PairForceIsOppositeWhenTheParticlesSwap) {
   PairValues v;
   v.rc = 1.2;
   v.kernel = DensityKernelKind::Wendland;
-  v.own = {0.8, 0.3, 4.0, 2.5, 7.0, 0.5};
+  v.own = {0.8, 0.3, 4.0, 2.5, 7.0, 0.5, 1.0};
   v.mass_i = 1.0, v.mass_j = 1.7;
   const SdpdPairParamsT<double> ab = SdpdLaw::make(v);
   std::swap(v.mass_i, v.mass_j);
@@ -310,6 +311,64 @@ TEST(Sdpd, BitIdenticalForOneAndTwoThreadsAndAcrossARestart) {
   test::expect_bit_identical_on_threads_and_restart(spec, dir);
 }
 
+TEST(Sdpd, PairThatDoesNotInteractIsInvisible) {
+  // interact = 0: the law's force is zero at every distance inside the kernel, whatever the velocities
+  // and noise, and the pair's density range is empty, so its kernel adds nothing.
+  PairValues v;
+  v.rc = 1.5;
+  v.kernel = DensityKernelKind::Wendland;
+  v.own = {2.0, 0.5, 8.0, 3.0, 1.0, 0.0, 0.0};
+  const SdpdPairParamsT<double> p = SdpdLaw::make(v);
+  ASSERT_LT(SdpdLaw::density_range(v), 0.0);
+  const DensityParamsT<double> dp{SdpdLaw::density_range(v), 0.0};
+  for (const double r : {0.1, 0.7, 1.3}) {
+    PairInput<double> in;
+    in.r = r;
+    in.d[0] = r;
+    in.dv[0] = 0.3;
+    in.dv[1] = -0.2;
+    in.dv[2] = 0.1;
+    in.rv = 0.3 * r;
+    in.rho_i = 3.0;
+    in.rho_j = 2.0;
+    in.inv_sqrt_dt = 10.0;
+    for (int w = 0; w < 6; ++w) in.xm[w] = 0.4 * w - 1.0;
+    const PairForceT<double> f = eval<1, 1>(p, in);
+    EXPECT_EQ(f.fc, 0.0);
+    EXPECT_EQ(f.fd, 0.0);
+    EXPECT_EQ(f.fr, 0.0);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(f.fn[c], 0.0) << "r = " << r;
+    EXPECT_EQ(WendlandDensityKernel{}(dp, r), 0.0) << "r = " << r;
+  }
+  // A run: two fluids A and B filling the same box (number density 3 each) that do not see each other
+  // have the excess pressure (virial minus n kT) of two separate fluids, twice one fluid's; interacting,
+  // they are one fluid at twice rho_0, whose equation of state pushes far harder.
+  const auto excess_pressure = [](int fluids, bool interact) {
+    std::string toml = "[system]\nbox = [6.0, 6.0, 6.0]\nkT = 0.1\nseed = 5\n[[species]]\nname = \"A\"\ndensity = 3.0\n";
+    if (fluids == 2) toml += "[[species]]\nname = \"B\"\ndensity = 3.0\n";
+    toml += "[pair]\nstyle = \"sdpd\"\nkernel = \"wendland\"\nrc = 1.5\neta = 2.0\nc = 8.0\nrho0 = 3.0\n";
+    if (fluids == 2 && !interact) toml += "[[pair.override]]\nspecies = [\"A\", \"B\"]\ninteract = 0\n";
+    toml += "[integrator]\ndt = 0.01\n[output]\nthermo_every = 10\nprogress = false\n";
+    Simulation sim(parse_config(toml, "sdpd_interact.toml"), RunOptions{});
+    double sum = 0;
+    int samples = 0;
+    for (int k = 1; k <= 600; ++k) {
+      sim.step();
+      if (k > 200 && k % 10 == 0) {
+        const ThermoState t = sim.thermo();
+        sum += t.pressure - 3.0 * fluids * t.temperature;
+        ++samples;
+      }
+    }
+    return sum / samples;
+  };
+  const double one = excess_pressure(1, true), apart = excess_pressure(2, false), mixed = excess_pressure(2, true);
+  std::printf("sdpd interact: excess pressure of one fluid %.3f, two that do not interact %.3f (ratio %.3f), two "
+              "that do %.3f\n", one, apart, apart / one, mixed);
+  EXPECT_NEAR(apart / one, 2.0, 0.2);
+  EXPECT_GT(mixed, 5.0 * apart);
+}
+
 TEST(Sdpd, BadInputNamesTheKey) {
   const auto refused = [](const std::string& toml, const std::string& key) {
     try {
@@ -332,6 +391,7 @@ TEST(Sdpd, BadInputNamesTheKey) {
   refused(with("c = 8.0\n", "c = 0.0\n"), "pair.c");
   refused(with("kernel = \"lucy\"", "kernel = \"warren\""), "pair.kernel");
   refused(with("rc = 1.5\n", "rc = 1.5\ngamma = 4.5\n"), "pair.gamma");
+  refused(with("p_b = ", "interact = 0.5\np_b = "), "pair.interact");  // 0 or 1 only
   // The Wendland kernel and Tait's law are accepted.
   refused(with("rc = 1.5\n", "rc = 0.5\n"), "pair.rc");              // below the spacing 3^(-1/3)
   refused(with("dt = 0.01\n", "dt = 0.05\n"), "pair.c");             // the sound limit 0.25 h / c
