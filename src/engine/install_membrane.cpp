@@ -578,8 +578,17 @@ struct Movers {
 
 // The shift by whole periods that brings the wrapped position r next to the unwrapped point near (core's
 // minimum image of near - r taken off near - r).
+// The nearest image of a difference along axis d however many periods it spans: the gathered vertices are
+// unwrapped (position plus image times the box), so a cell that has travelled k box lengths lies about
+// k L from the wrapped particles near it, beyond what one minimum_image() step brings back.
+double nearest_image(const Box& box, int d, double diff) {
+  const double g = minimum_image(diff, box.image_len(d), box.half_image_len(d));
+  if (std::abs(g) <= box.half_image_len(d)) return g;
+  return diff - box.length(d) * std::round(diff / box.length(d));
+}
+
 Vec3 image_shift(const Box& box, Vec3 r, Vec3 near) {
-  const auto along = [&](int d, double diff) { return diff - minimum_image(diff, box.image_len(d), box.half_image_len(d)); };
+  const auto along = [&](int d, double diff) { return diff - nearest_image(box, d, diff); };
   return {along(0, near.x - r.x), along(1, near.y - r.y), along(2, near.z - r.z)};
 }
 
@@ -784,7 +793,7 @@ class MembraneBounceStage final : public Stage {
   // Whether the box of centre pc and half extents ph meets the box tb at tb's nearest image.
   static bool near_box(const Box& box, Vec3 pc, Vec3 ph, const Box3& tb) {
     const auto apart = [&](int d, double p, double half, double lo, double hi) {
-      const double gap = minimum_image(p - 0.5 * (lo + hi), box.image_len(d), box.half_image_len(d));
+      const double gap = nearest_image(box, d, p - 0.5 * (lo + hi));
       return std::abs(gap) > half + 0.5 * (hi - lo);
     };
     return !(apart(0, pc.x, ph.x, tb.lo.x, tb.hi.x) || apart(1, pc.y, ph.y, tb.lo.y, tb.hi.y) ||
