@@ -233,6 +233,17 @@ struct AngleTypeSpec {
   double theta0_deg = 0;  // theta0 in degrees (0: straight)
 };
 
+// [[dihedral_type]]: U = k [1 - cos(theta - theta0)], theta the hinge angle between the normals of the
+// triangles (a, b, c) and (d, c, b) (Kantor-Nelson; physics/bond_laws.hpp). Dihedrals come from a LAMMPS
+// data file's Dihedrals section.
+enum class DihedralStyleSpec { Cosine };
+struct DihedralTypeSpec {
+  std::string name;
+  DihedralStyleSpec style = DihedralStyleSpec::Cosine;  // the one dihedral law
+  double k = 0;
+  double theta0_deg = 0;  // theta0 in degrees (0: flat)
+};
+
 // [[molecule]]: a molecule built by the config. `sequence` in the notation of seed 002 ("Amphiphilic
 // Systems"): species names with counts, e.g. "A10" (a chain of 10 A beads), "H1T4" (amphiphile H T_4),
 // "H3(T4)2" (two tails of 4 T beads, both bonded to the last head bead). Placed as random walks.
@@ -337,6 +348,7 @@ struct SimulationSpec {
   MsdSpec msd;                                  // [analysis.msd]
   std::vector<BondTypeSpec> bond_types;         // [[bond_type]]
   std::vector<AngleTypeSpec> angle_types;       // [[angle_type]]
+  std::vector<DihedralTypeSpec> dihedral_types; // [[dihedral_type]]
   std::vector<MoleculeSpec> molecules;          // [[molecule]]
   BondExclusion bond_exclusion = BondExclusion::None;  // [bonds] exclude
   std::optional<double> bond_reach_set;         // [bonds] reach as written

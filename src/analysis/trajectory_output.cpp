@@ -76,12 +76,14 @@ void TrajectoryOutput::write_frame(std::uint64_t step, const StepContext& ctx, c
   set_frame_arrays(f, p);
   f.species_names = &names;
   f.species_mass = &ctx.species_mass;
-  std::vector<std::string> bond_names, angle_names;
+  std::vector<std::string> bond_names, angle_names, dihedral_names;
   for (const auto& b : s.bond_types) bond_names.push_back(b.name);
   for (const auto& a : s.angle_types) angle_names.push_back(a.name);
+  for (const auto& d : s.dihedral_types) dihedral_names.push_back(d.name);
   f.topology = ctx.topology;
   f.bond_type_names = &bond_names;
   f.angle_type_names = &angle_names;
+  f.dihedral_type_names = &dihedral_names;
   if (lammps_) lammps_->write_frame(f);
   if (gsd_) gsd_->write_frame(f);
 }

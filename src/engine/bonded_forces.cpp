@@ -51,10 +51,12 @@ std::uint64_t problem_key(BondProblem::Kind kind, std::uint64_t index) {
 }  // namespace
 
 BondedForces::BondedForces(Topology topology, std::vector<BondParams> bond_types, std::vector<AngleParams> angle_types,
-                           double reach, std::uint32_t max_id, BondExclusion exclude)
+                           double reach, std::uint32_t max_id, BondExclusion exclude,
+                           std::vector<DihedralParams> dihedral_types)
     : topo_(std::move(topology)),
       bond_types_(std::move(bond_types)),
       angle_types_(std::move(angle_types)),
+      dihedral_types_(std::move(dihedral_types)),
       reach_(reach) {
   std::vector<std::uint32_t> owner, items;
   owner.reserve(topo_.bonds.size());
@@ -70,6 +72,13 @@ BondedForces::BondedForces(Topology topology, std::vector<BondParams> bond_types
   for (const std::uint32_t k : items) {
     const Angle& a = topo_.angles[k];
     owned_angles_.push_back({a.a, a.c, k, a.type});
+  }
+  owner.clear();
+  for (const Dihedral& d : topo_.dihedrals) owner.push_back(d.b);
+  group_by_owner(owner, max_id, dihedral_start_, items);
+  for (const std::uint32_t k : items) {
+    const Dihedral& d = topo_.dihedrals[k];
+    owned_dihedrals_.push_back({d.a, d.c, d.d, k, d.type});
   }
   // Excluded pairs from the bond graph: bonded (1-2), and with 1-3 also two bonds apart.
   std::vector<std::uint64_t> pairs;
@@ -174,15 +183,29 @@ void BondedForces::lists_from_ids(const ParticleData& p) {
       });
   if (owned_angles_.empty()) {
     la_start_.assign(p.n_local + 1, 0);
+  } else {
+    build_grouped(
+        p.n_local, la_start_, langles_, count_in(angle_start_),
+        [&](std::size_t i, LocalAngle* out) {
+          const auto [lo, hi] = range(angle_start_, i);
+          for (std::uint32_t k = lo; k < hi; ++k) {
+            const OwnedAngle& t = owned_angles_[k];
+            *out++ = {ids_.find(t.a), ids_.find(t.c), t.index, t.type};
+          }
+          return out;
+        });
+  }
+  if (owned_dihedrals_.empty()) {
+    ld_start_.assign(p.n_local + 1, 0);
     return;
   }
   build_grouped(
-      p.n_local, la_start_, langles_, count_in(angle_start_),
-      [&](std::size_t i, LocalAngle* out) {
-        const auto [lo, hi] = range(angle_start_, i);
+      p.n_local, ld_start_, ldihedrals_, count_in(dihedral_start_),
+      [&](std::size_t i, LocalDihedral* out) {
+        const auto [lo, hi] = range(dihedral_start_, i);
         for (std::uint32_t k = lo; k < hi; ++k) {
-          const OwnedAngle& t = owned_angles_[k];
-          *out++ = {ids_.find(t.a), ids_.find(t.c), t.index, t.type};
+          const OwnedDihedral& t = owned_dihedrals_[k];
+          *out++ = {ids_.find(t.a), ids_.find(t.c), ids_.find(t.d), t.index, t.type};
         }
         return out;
       });
@@ -207,28 +230,46 @@ void BondedForces::lists_through(const std::vector<std::uint32_t>& order) {
       lbonds_.size());
   lb_start_.swap(spare_start_);
   lbonds_.swap(spare_bonds_);
-  if (owned_angles_.empty()) return;  // la_start_: n + 1 zeros already
+  if (!owned_angles_.empty()) {  // else la_start_: n + 1 zeros already
+    build_grouped(
+        n, spare_start_, spare_angles_, [&](std::size_t k) { return la_start_[order[k] + 1] - la_start_[order[k]]; },
+        [&](std::size_t k, LocalAngle* out) {
+          for (std::uint32_t e = la_start_[order[k]]; e < la_start_[order[k] + 1]; ++e) {
+            LocalAngle t = langles_[e];
+            t.ja = moved(t.ja);
+            t.jc = moved(t.jc);
+            *out++ = t;
+          }
+          return out;
+        },
+        langles_.size());
+    la_start_.swap(spare_start_);
+    langles_.swap(spare_angles_);
+  }
+  if (owned_dihedrals_.empty()) return;  // ld_start_: n + 1 zeros already
   build_grouped(
-      n, spare_start_, spare_angles_, [&](std::size_t k) { return la_start_[order[k] + 1] - la_start_[order[k]]; },
-      [&](std::size_t k, LocalAngle* out) {
-        for (std::uint32_t e = la_start_[order[k]]; e < la_start_[order[k] + 1]; ++e) {
-          LocalAngle t = langles_[e];
+      n, spare_start_, spare_dihedrals_, [&](std::size_t k) { return ld_start_[order[k] + 1] - ld_start_[order[k]]; },
+      [&](std::size_t k, LocalDihedral* out) {
+        for (std::uint32_t e = ld_start_[order[k]]; e < ld_start_[order[k] + 1]; ++e) {
+          LocalDihedral t = ldihedrals_[e];
           t.ja = moved(t.ja);
           t.jc = moved(t.jc);
+          t.jd = moved(t.jd);
           *out++ = t;
         }
         return out;
       },
-      langles_.size());
-  la_start_.swap(spare_start_);
-  langles_.swap(spare_angles_);
+      ldihedrals_.size());
+  ld_start_.swap(spare_start_);
+  ldihedrals_.swap(spare_dihedrals_);
 }
 
 void BondedForces::prepare_lists(const ParticleData& p) {
   if (list_source_ == &p && list_generation_ == p.generation()) return;
   const std::vector<std::uint32_t>* order =
       list_source_ == &p && !list_has_ghosts_ && p.n_ghost == 0 ? p.permutation_since(list_generation_) : nullptr;
-  if (order != nullptr && order->size() + 1 == lb_start_.size() && order->size() + 1 == la_start_.size())
+  if (order != nullptr && order->size() + 1 == lb_start_.size() && order->size() + 1 == la_start_.size() &&
+      order->size() + 1 == ld_start_.size())
     lists_through(*order);
   else
     lists_from_ids(p);
@@ -282,7 +323,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   };
 
   constexpr std::uint32_t kAhead = 8;
-  const bool no_angles = owned_angles_.empty();
+  const bool no_angles = owned_angles_.empty(), no_dihedrals = owned_dihedrals_.empty();
   // The terms owned by local particle i.
   // `a`: the thread's integer sums ([0..5] virial tensor, [6] its trace, [7] energy).
   auto terms = [&]<bool kAtomic>(std::size_t i, std::int64_t* a, std::uint64_t& problem) {
@@ -325,8 +366,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
         a[7] += to_fixed(bf.energy, kVirialScale);
       }
     }
-    if (no_angles) return;
-    for (std::uint32_t k = la_start_[i]; k < la_start_[i + 1]; ++k) {
+    for (std::uint32_t k = no_angles ? 0 : la_start_[i]; k < (no_angles ? 0 : la_start_[i + 1]); ++k) {
       const LocalAngle& t = langles_[k];
       const std::uint32_t ja = t.ja, jc = t.jc;
       if (ja == IdMap::kNotHere || jc == IdMap::kNotHere) {
@@ -352,6 +392,38 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
         a[7] += to_fixed(af.energy, kVirialScale);
       }
     }
+    if (no_dihedrals) return;
+    for (std::uint32_t k = ld_start_[i]; k < ld_start_[i + 1]; ++k) {
+      const LocalDihedral& t = ldihedrals_[k];
+      const std::uint32_t ja = t.ja, jc = t.jc, jd = t.jd;
+      if (ja == IdMap::kNotHere || jc == IdMap::kNotHere || jd == IdMap::kNotHere) {
+        problem = std::min(problem, problem_key(BondProblem::DihedralTooLong, t.index));
+        continue;
+      }
+      double ra[3], rc[3], rd[3];  // a, c and d relative to b (the owner i), nearest images
+      displacement(ja, i, ra);
+      displacement(jc, i, rc);
+      displacement(jd, i, rd);
+      const DihedralForce df = dihedral_force(dihedral_types_[static_cast<std::size_t>(t.type)], ra, rc, rd);
+      const std::int64_t qa[3] = {to_fixed(df.fa[0], kForceScale), to_fixed(df.fa[1], kForceScale),
+                                  to_fixed(df.fa[2], kForceScale)};
+      const std::int64_t qc[3] = {to_fixed(df.fc[0], kForceScale), to_fixed(df.fc[1], kForceScale),
+                                  to_fixed(df.fc[2], kForceScale)};
+      const std::int64_t qd[3] = {to_fixed(df.fd[0], kForceScale), to_fixed(df.fd[1], kForceScale),
+                                  to_fixed(df.fd[2], kForceScale)};
+      add<kAtomic>(f, ja, qa[0], qa[1], qa[2]);
+      add<kAtomic>(f, jc, qc[0], qc[1], qc[2]);
+      add<kAtomic>(f, jd, qd[0], qd[1], qd[2]);
+      // b gets minus the others' integers, so the four sum to zero exactly (momentum to the last bit).
+      add<kAtomic>(f, i, -(qa[0] + qc[0] + qd[0]), -(qa[1] + qc[1] + qd[1]), -(qa[2] + qc[2] + qd[2]));
+      if (with_sums) {
+        // sum over atoms of r (x) F, relative to b (the forces sum to zero).
+        virial(a, ra, df.fa);
+        virial(a, rc, df.fc);
+        virial(a, rd, df.fd);
+        a[7] += to_fixed(df.energy, kVirialScale);
+      }
+    }
   };
   // Owners in storage order: their positions and forces are read in order, and bonded partners are
   // near in space, hence near in the cell-sorted storage, so the partners' data is mostly in cache.
@@ -374,7 +446,7 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
     // The length, from whichever rank holds both atoms (others add zero).
     double len = 0;
     ids_.refresh(p);
-    if (out.kind != BondProblem::AngleTooLong) {
+    if (out.kind == BondProblem::Broken || out.kind == BondProblem::TooLong) {
       const Bond& b = topo_.bonds[out.index];
       const std::uint32_t ia = ids_.find(b.a), ib = ids_.find(b.b);
       const std::uint32_t owner = b.a < b.b ? ia : ib;  // the rank that evaluates the bond reports it
@@ -492,6 +564,27 @@ void BondedForces::virial_terms(const ParticleData& p, const Box& box, VirialTer
     }
     out.push_back(ta);
     out.push_back(tc);
+  }
+  for (const Dihedral& h : topo_.dihedrals) {
+    const std::uint32_t ia = index(h.a), ib = index(h.b), ic = index(h.c), id = index(h.d);
+    double ra[3], rc[3], rd[3];
+    displacement(ia, ib, ra);
+    displacement(ic, ib, rc);
+    displacement(id, ib, rd);
+    const DihedralForce df = dihedral_force(dihedral_types_[static_cast<std::size_t>(h.type)], ra, rc, rd);
+    const std::uint32_t who[3] = {ia, ic, id};
+    const double* d[3] = {ra, rc, rd};
+    const double* fo[3] = {df.fa, df.fc, df.fd};
+    for (int q = 0; q < 3; ++q) {
+      VirialTerm t;
+      t.i = who[q];
+      t.j = ib;
+      for (int c = 0; c < 3; ++c) {
+        t.d[c] = d[q][c];
+        t.f[c] = fo[q][c];
+      }
+      out.push_back(t);
+    }
   }
 }
 

@@ -1,6 +1,7 @@
-// Bonded forces: bonds and angles of the topology evaluated with the laws of physics/bond_laws.hpp.
-// Partners are found by global id through an IdMap (owned or ghost), each bond and angle is evaluated
-// once, by the rank that owns its first atom (bonds: the lower id; angles: the centre), and the forces
+// Bonded forces: bonds, angles and dihedrals of the topology evaluated with the laws of
+// physics/bond_laws.hpp. Partners are found by global id through an IdMap (owned or ghost), each term is
+// evaluated once, by the rank that owns its first atom (bonds: the lower id; angles: the centre;
+// dihedrals: the first atom of the central bond, b), and the forces
 // are accumulated in fixed point, ghost contributions going back to their owners like pair forces, so
 // the result is the same bits for any thread and rank count.
 #pragma once
@@ -25,9 +26,9 @@ namespace mesodpd {
 // bond (or angle) whose partner the evaluating rank does not hold: it is farther away than the ghost
 // layer reaches (at least `reach`; on one rank every partner is held).
 struct BondProblem {
-  enum Kind : int { Broken = 0, TooLong = 1, AngleTooLong = 2 };
+  enum Kind : int { Broken = 0, TooLong = 1, AngleTooLong = 2, DihedralTooLong = 3 };
   Kind kind = Broken;
-  std::uint64_t index = 0;  // bond or angle index in the topology (0-based)
+  std::uint64_t index = 0;  // bond, angle or dihedral index in the topology (0-based)
   double length = 0;        // the offending distance
 };
 
@@ -44,12 +45,14 @@ class BondedForces {
   // messages. Ids in the topology must be at most `max_id`.
   // `exclude`: which bonded pairs lose their pair force (1-2: bonded; 1-3: also two bonds apart).
   BondedForces(Topology topology, std::vector<BondParams> bond_types, std::vector<AngleParams> angle_types,
-               double reach, std::uint32_t max_id, BondExclusion exclude = BondExclusion::None);
+               double reach, std::uint32_t max_id, BondExclusion exclude = BondExclusion::None,
+               std::vector<DihedralParams> dihedral_types = {});
 
   bool empty() const { return topo_.empty(); }
   const Topology& topology() const { return topo_; }
   const std::vector<BondParams>& bond_types() const { return bond_types_; }
   const std::vector<AngleParams>& angle_types() const { return angle_types_; }
+  const std::vector<DihedralParams>& dihedral_types() const { return dihedral_types_; }
   double reach() const { return reach_; }
 
   // Adds the bonded forces to p.f{x,y,z} of the local particles (the pair forces must be there) and,
@@ -70,7 +73,8 @@ class BondedForces {
   // Whether the pair force between ids a and b is excluded (bonds.exclude).
   bool excluded(std::uint32_t a, std::uint32_t b) const;
 
-  // Appends the virial terms (core/pair_sums.hpp) of every bond (one term) and angle (two) of the
+  // Appends the virial terms (core/pair_sums.hpp) of every bond (one term), angle (two) and dihedral
+  // (three: a, c and d against b) of the
   // topology, evaluated on the local particles of `p`, which must hold every bonded atom (the whole
   // system, as the analyses see it on the root). Serial, in topology order; their d (x) f add up to
   // the bonded virial that compute() adds to the pair sums. For [analysis.stress_profile].
@@ -84,6 +88,7 @@ class BondedForces {
   Topology topo_;
   std::vector<BondParams> bond_types_;
   std::vector<AngleParams> angle_types_;
+  std::vector<DihedralParams> dihedral_types_;
   double reach_ = 0;
   // Bonds and angles evaluated by the owner of id u: entries [bond_start_[u], bond_start_[u + 1]) of
   // owned_bonds_ and the same for angles (owner: the centre atom), packed so that one owner's terms
@@ -99,9 +104,15 @@ class BondedForces {
     std::uint32_t index;
     std::int32_t type;
   };
-  std::vector<std::uint32_t> bond_start_, angle_start_;
+  struct OwnedDihedral {
+    std::uint32_t a, c, d;  // the other atoms' ids (the owner is b)
+    std::uint32_t index;
+    std::int32_t type;
+  };
+  std::vector<std::uint32_t> bond_start_, angle_start_, dihedral_start_;
   std::vector<OwnedBond> owned_bonds_;
   std::vector<OwnedAngle> owned_angles_;
+  std::vector<OwnedDihedral> owned_dihedrals_;
 
   // The same terms in storage indices, grouped by the local owner i: bonds [lb_start_[i],
   // lb_start_[i + 1]) of lbonds_, angles likewise. Partners are storage indices (IdMap::kNotHere when
@@ -122,12 +133,18 @@ class BondedForces {
     std::uint32_t index;
     std::int32_t type;
   };
+  struct LocalDihedral {
+    std::uint32_t ja, jc, jd;  // storage indices of a, c, d
+    std::uint32_t index;
+    std::int32_t type;
+  };
   void prepare_lists(const ParticleData& p);
   void lists_from_ids(const ParticleData& p);
   void lists_through(const std::vector<std::uint32_t>& order);
-  std::vector<std::uint32_t> lb_start_, la_start_, new_of_old_, spare_start_;
+  std::vector<std::uint32_t> lb_start_, la_start_, ld_start_, new_of_old_, spare_start_;
   std::vector<LocalBond> lbonds_, spare_bonds_;
   std::vector<LocalAngle> langles_, spare_angles_;
+  std::vector<LocalDihedral> ldihedrals_, spare_dihedrals_;
   const ParticleData* list_source_ = nullptr;
   std::uint64_t list_generation_ = 0;
   bool list_has_ghosts_ = false;

@@ -59,6 +59,24 @@ const keys::KeyTable<AngleTypeSpec>& angle_type_keys() {
   return table;
 }
 
+const keys::KeyTable<DihedralTypeSpec>& dihedral_type_keys() {
+  using T = DihedralTypeSpec;
+  static const keys::KeyTable<T> table = [] {
+    keys::KeyTable<T> t("dihedral_type");
+    t.string("name", &T::name, "A dihedral type of a LAMMPS data file's `Dihedrals` section (type k there takes the k-th `[[dihedral_type]]` block).")
+      .required()
+      .allowed("letters, digits, `_`; unique");
+    t.choice("style", &T::style, {{"cosine", DihedralStyleSpec::Cosine}}, "U = k [1 - cos(theta - theta0)], theta the angle between the normals of the triangles (a, b, c) and (d, c, b) of the dihedral a-b-c-d (central bond b-c), 0 when the four atoms lie flat with a and d on opposite sides: the Kantor-Nelson bending of a triangulated membrane (the `[[membrane]]` law). With theta0 = 0 it is LAMMPS's `dihedral_style harmonic` with K = k, d = +1, n = 1 (LAMMPS's phi is pi - theta).");
+    t.number("k", &T::k, keys::kNonNegative, "Stiffness (energy); a membrane of bending rigidity kappa has k = 2 kappa / sqrt(3).")
+      .required();
+    t.number("theta0", &T::theta0_deg, {-180.0, 180.0, true, true}, "Preferred angle.")
+      .unit("degrees")
+      .allowed("[-180, 180] degrees");
+    return t;
+  }();
+  return table;
+}
+
 const keys::KeyTable<MoleculeSpec>& molecule_keys() {
   using T = MoleculeSpec;
   static const keys::KeyTable<T> table = [] {

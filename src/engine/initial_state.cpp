@@ -39,7 +39,7 @@ Philox4x32 particle_bits(std::uint64_t seed, RngStream stream, std::uint32_t id,
   return philox4x32_10(ctr, static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32));
 }
 
-// Returns whether the file had a Velocities section. With `topology`, also its bonds and angles.
+// Returns whether the file had a Velocities section. With `topology`, also its bonds, angles and dihedrals.
 bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topology* topology) {
   const LammpsData data = read_lammps_data(spec.data_file, tdpd_solutes(spec));
   const int ns = static_cast<int>(spec.species.size());
@@ -59,9 +59,16 @@ bool load_data_file(const SimulationSpec& spec, Box& box, ParticleData& p, Topol
     throw ConfigError(fmt::format("angle_type: the data file {} has {} angle types but the config defines {} "
                                   "[[angle_type]] blocks (type k takes the k-th block's parameters)",
                                   spec.data_file, data.n_angle_types, spec.angle_types.size()));
+  if (!data.dihedrals.empty() && data.n_dihedral_types > static_cast<int>(spec.dihedral_types.size()))
+    throw ConfigError(fmt::format("dihedral_type: the data file {} has {} dihedral types but the config defines {} "
+                                  "[[dihedral_type]] blocks (type k takes the k-th block's parameters)",
+                                  spec.data_file, data.n_dihedral_types, spec.dihedral_types.size()));
   if (topology != nullptr) {
     topology->bonds.clear();
     topology->angles.clear();
+    topology->dihedrals.clear();
+    for (const LammpsBonded& d : data.dihedrals)
+      topology->dihedrals.push_back({d.atoms[0], d.atoms[1], d.atoms[2], d.atoms[3], d.type - 1});
     for (const LammpsBonded& b : data.bonds) topology->bonds.push_back({b.atoms[0], b.atoms[1], b.type - 1});
     for (const LammpsBonded& a : data.angles)
       topology->angles.push_back({a.atoms[0], a.atoms[1], a.atoms[2], a.type - 1});

@@ -270,8 +270,18 @@ void Simulation::make_bonded(Topology topology) {
       throw ConfigError(fmt::format("angle {}-{}-{} has type {}, but the config defines {} [[angle_type]] blocks (an "
                                     "angle type without parameters)", a.a, a.b, a.c, a.type + 1, at.size()));
   }
+  std::vector<DihedralParams> dt;
+  for (const DihedralTypeSpec& d : spec_.dihedral_types) dt.push_back({d.k, d.theta0_deg * M_PI / 180.0});
+  for (const Dihedral& d : topology.dihedrals) {
+    max_id = std::max({max_id, d.a, d.b, d.c, d.d});
+    if (d.type < 0 || static_cast<std::size_t>(d.type) >= dt.size())
+      throw ConfigError(fmt::format("dihedral {}-{}-{}-{} has type {}, but the config defines {} [[dihedral_type]] "
+                                    "blocks (a dihedral type without parameters)", d.a, d.b, d.c, d.d, d.type + 1,
+                                    dt.size()));
+  }
   bonds_ = BondedForces(std::move(topology), std::move(bt), std::move(at),
-                        std::max(spec_.bond_reach, forces_->max_cutoff()), max_id, spec_.bond_exclusion);
+                        std::max(spec_.bond_reach, forces_->max_cutoff()), max_id, spec_.bond_exclusion,
+                        std::move(dt));
 }
 
 void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bool only_fast) {
@@ -296,6 +306,14 @@ void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bo
                                   "the ghost layer of its rank (which reaches at least bonds.reach = {}); raise "
                                   "bonds.reach (wider neighbour cells) or use stiffer bonds",
                                   problem->index + 1, a.a, a.b, a.c, step_, bonds_.reach()));
+  }
+  if (problem->kind == BondProblem::DihedralTooLong) {
+    const Dihedral& d = t.dihedrals[problem->index];
+    throw BlowUpError(step_, d.b,
+                      fmt::format("dihedral {} (particle ids {}, {}, {}, {}) at step {}: a partner of atom {} lies "
+                                  "beyond the ghost layer of its rank (which reaches at least bonds.reach = {}); raise "
+                                  "bonds.reach (wider neighbour cells)",
+                                  problem->index + 1, d.a, d.b, d.c, d.d, step_, d.b, bonds_.reach()));
   }
   const Bond& b = t.bonds[problem->index];
   if (problem->kind == BondProblem::Broken) {
@@ -632,8 +650,9 @@ std::string Simulation::run() {
 std::string Simulation::finish() {
   std::string summary;
   if (!bonds_.empty() && halo_.comm().root() && run_wall_seconds_ > 0)
-    summary += fmt::format("bonded forces: {} bonds, {} angles, {:.3g} s of {:.3g} s ({:.1f}% of the steps)\n",
-                           bonds_.topology().bonds.size(), bonds_.topology().angles.size(), run_bonded_seconds_,
+    summary += fmt::format("bonded forces: {} bonds, {} angles, {} dihedrals, {:.3g} s of {:.3g} s ({:.1f}% of the steps)\n",
+                           bonds_.topology().bonds.size(), bonds_.topology().angles.size(),
+                           bonds_.topology().dihedrals.size(), run_bonded_seconds_,
                            run_wall_seconds_, 100.0 * run_bonded_seconds_ / run_wall_seconds_);
   if (!options_.out_dir.empty()) write_checkpoint(options_.out_dir / "checkpoint.mdpd");
   // The summaries are collective (the analyses' write their files and text on the root, and a failed

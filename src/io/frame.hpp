@@ -40,10 +40,12 @@ struct FrameView {
     const void* data = nullptr;
   };
   std::vector<Extra> extra;
-  // Bonds and angles by global id (GSD bonds/ and angles/ chunks), with their type names; may be null.
+  // Bonds, angles and dihedrals by global id (GSD bonds/, angles/ and dihedrals/ chunks), with their type
+  // names; may be null.
   const Topology* topology = nullptr;
   const std::vector<std::string>* bond_type_names = nullptr;
   const std::vector<std::string>* angle_type_names = nullptr;
+  const std::vector<std::string>* dihedral_type_names = nullptr;
 };
 
 // Points the frame's arrays at the first p.n_local particles of `p` (every field flagged kFrame) and

@@ -554,6 +554,21 @@ void GsdWriter::write_frame(const FrameView& f) {
       chunks.push_back(Chunk::make("angles/typeid", kUint32, 1, typeid_));
       chunks.push_back(Chunk::make("angles/group", kUint32, 3, group));
     }
+    if (!topo.dihedrals.empty()) {
+      int ntypes = 0;
+      std::vector<std::uint32_t> typeid_, group;
+      for (const Dihedral& d : topo.dihedrals) {
+        ntypes = std::max(ntypes, d.type + 1);
+        typeid_.push_back(static_cast<std::uint32_t>(d.type));
+        for (const std::uint32_t id : {d.a, d.b, d.c, d.d}) group.push_back(row(id));
+      }
+      const auto [width, table] = type_table(f.dihedral_type_names, ntypes);
+      chunks.push_back(Chunk::make("dihedrals/N", kUint32, 1,
+                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.dihedrals.size())}));
+      chunks.push_back(Chunk::make("dihedrals/types", kInt8, static_cast<std::uint32_t>(width), table));
+      chunks.push_back(Chunk::make("dihedrals/typeid", kUint32, 1, typeid_));
+      chunks.push_back(Chunk::make("dihedrals/group", kUint32, 4, group));
+    }
   }
   if (n > 0 && fields_.force) {
     const double* fo[3] = {f.fx, f.fy, f.fz};

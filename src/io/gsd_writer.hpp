@@ -22,6 +22,7 @@
 //                                               (FrameView::extra), when selected by name
 //   bonds/N, bonds/types, bonds/typeid, bonds/group (uint32 [N x 2], particle rows)   the frame's
 //   angles/N, angles/types, angles/typeid, angles/group (uint32 [N x 3])              topology, in
+//   dihedrals/N, dihedrals/types, dihedrals/typeid, dihedrals/group (uint32 [N x 4])
 //                                               the first frame of a file only (the schema's readers
 //                                               take absent chunks from frame 0), so OVITO and VMD
 //                                               draw the chains

@@ -144,7 +144,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
 
   LammpsData data;
   std::optional<std::int64_t> n_atoms, n_types;
-  std::int64_t n_bonds = 0, n_angles = 0;
+  std::int64_t n_bonds = 0, n_angles = 0, n_dihedrals = 0;
   std::array<bool, 3> have_bounds{};
   constexpr std::int64_t kMaxCount = std::numeric_limits<std::uint32_t>::max();
   for (const Line& line : header) {
@@ -169,8 +169,8 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
       }
     } else if (t.size() >= 2 && std::isdigit(static_cast<unsigned char>(t[0][0]))) {
       // Counts of things atom_style atomic does not have are fine when zero (write_data emits some).
-      static const char* const kZeroOnly[] = {"dihedrals",      "impropers", "dihedral types", "improper types",
-                                              "ellipsoids",     "lines",     "triangles",      "bodies"};
+      static const char* const kZeroOnly[] = {"impropers", "improper types", "ellipsoids",
+                                              "lines",     "triangles",      "bodies"};
       // Hints for LAMMPS's memory, meaningless here.
       static const char* const kIgnored[] = {"extra bond per atom", "extra angle per atom", "extra dihedral per atom",
                                              "extra improper per atom", "extra special per atom"};
@@ -179,12 +179,14 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
         p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<std::int64_t>::max());
         continue;
       }
-      if (keyword == "bonds" || keyword == "angles") {
-        (keyword == "bonds" ? n_bonds : n_angles) = p.integer(line, 0, keyword.c_str(), 0, kMaxCount);
+      if (keyword == "bonds" || keyword == "angles" || keyword == "dihedrals") {
+        (keyword == "bonds" ? n_bonds : keyword == "angles" ? n_angles : n_dihedrals) =
+            p.integer(line, 0, keyword.c_str(), 0, kMaxCount);
         continue;
       }
-      if (keyword == "bond types" || keyword == "angle types") {
-        (keyword == "bond types" ? data.n_bond_types : data.n_angle_types) =
+      if (keyword == "bond types" || keyword == "angle types" || keyword == "dihedral types") {
+        (keyword == "bond types" ? data.n_bond_types
+                                 : keyword == "angle types" ? data.n_angle_types : data.n_dihedral_types) =
             static_cast<int>(p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<int>::max()));
         continue;
       }
@@ -192,7 +194,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
         p.fail(line, "unknown header line '" + join(t, 0) + "'");
       }
       if (p.integer(line, 0, keyword.c_str(), 0, std::numeric_limits<std::int64_t>::max()) != 0) {
-        p.fail(line, "'" + keyword + "' is not supported: bonds and angles are the only bonded terms mesodpd reads");
+        p.fail(line, "'" + keyword + "' is not supported: bonds, angles and dihedrals are the bonded terms mesodpd reads");
       }
     } else {
       p.fail(line, "unknown header line '" + join(t, 0) + "'");
@@ -213,6 +215,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
   const Section* velocities = nullptr;
   const Section* bonds = nullptr;
   const Section* angles = nullptr;
+  const Section* dihedrals = nullptr;
   for (const Section& s : sections) {
     const std::string name = join(s.header.tokens, 0);
     const Section** slot = nullptr;
@@ -231,6 +234,8 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
       slot = &bonds;
     } else if (name == "Angles") {
       slot = &angles;
+    } else if (name == "Dihedrals") {
+      slot = &dihedrals;
     } else if (name == "Masses") {
       slot = &masses;
     } else if (name == "Velocities") {
@@ -238,8 +243,8 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
     } else if (name.size() > 7 && name.ends_with(" Coeffs")) {
       continue;  // interaction parameters come from the mesodpd configuration, not the data file
     } else {
-      p.fail(s.header, "section '" + name + "' is not supported (Masses, Atoms, Velocities, Bonds, Angles and "
-                                            "... Coeffs are read)");
+      p.fail(s.header, "section '" + name + "' is not supported (Masses, Atoms, Velocities, Bonds, Angles, "
+                                            "Dihedrals and ... Coeffs are read)");
     }
     if (*slot != nullptr) {
       p.fail(s.header,
@@ -386,7 +391,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
   if (velocities != nullptr && atoms == nullptr && !velocities->lines.empty()) {
     p.fail(velocities->header, "Velocities section without an Atoms section");
   }
-  // Bonds and angles: "id type atom atom [atom]", every atom in the Atoms section.
+  // Bonds, angles and dihedrals: "id type atom atom [atom [atom]]", every atom in the Atoms section.
   std::unordered_map<std::uint32_t, bool> known;
   for (const LammpsAtom& a : data.atoms) known.emplace(a.id, true);
   auto read_bonded = [&](const Section* sec, const char* what, std::int64_t declared, int n_types, std::size_t n_atoms_per,
@@ -394,19 +399,22 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
     const std::string name = what;
     if (sec == nullptr) {
       if (declared > 0) p.fail("no " + name + " section, but the header declares " + std::to_string(declared) + " " +
-                               (n_atoms_per == 2 ? "bonds" : "angles"));
+                               (n_atoms_per == 2 ? "bonds" : n_atoms_per == 3 ? "angles" : "dihedrals"));
       return;
     }
     if (static_cast<std::int64_t>(sec->lines.size()) != declared)
       p.fail(sec->header, name + " section has " + std::to_string(sec->lines.size()) + " lines, but the header declares " +
                               std::to_string(declared));
     if (declared > 0 && n_types < 1)
-      p.fail(sec->header, name + " section without a '" + (n_atoms_per == 2 ? "bond" : "angle") + " types' count in the header");
+      p.fail(sec->header, name + " section without a '" +
+                              (n_atoms_per == 2 ? "bond" : n_atoms_per == 3 ? "angle" : "dihedral") +
+                              " types' count in the header");
     std::unordered_map<std::uint32_t, std::size_t> line_of_id;
     for (const Line& line : sec->lines) {
       if (line.tokens.size() != 2 + n_atoms_per)
-        p.fail(line, n_atoms_per == 2 ? "expected 'id type atom1 atom2' in Bonds section"
-                                      : "expected 'id type atom1 atom2 atom3' in Angles section");
+        p.fail(line, n_atoms_per == 2   ? "expected 'id type atom1 atom2' in Bonds section"
+                     : n_atoms_per == 3 ? "expected 'id type atom1 atom2 atom3' in Angles section"
+                                        : "expected 'id type atom1 atom2 atom3 atom4' in Dihedrals section");
       const auto id = static_cast<std::uint32_t>(p.integer(line, 0, (name + " id").c_str(), 1, kMaxCount));
       const auto [it, inserted] = line_of_id.emplace(id, line.number);
       if (!inserted)
@@ -427,6 +435,7 @@ LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentr
   };
   read_bonded(bonds, "Bonds", n_bonds, data.n_bond_types, 2, data.bonds);
   read_bonded(angles, "Angles", n_angles, data.n_angle_types, 3, data.angles);
+  read_bonded(dihedrals, "Dihedrals", n_dihedrals, data.n_dihedral_types, 4, data.dihedrals);
   return data;
 }
 

@@ -24,7 +24,7 @@ struct LammpsAtom {
 // One line of the Bonds (atoms a, b) or Angles (a, b, c; b the centre) section.
 struct LammpsBonded {
   int type = 0;                      // 1..n types as in the file
-  std::uint32_t atoms[3] = {0, 0, 0};
+  std::uint32_t atoms[4] = {0, 0, 0, 0};
 };
 
 struct LammpsData {
@@ -36,14 +36,14 @@ struct LammpsData {
   std::vector<LammpsAtom> atoms;  // in file order
   bool has_velocities = false;
   std::vector<std::array<double, 3>> velocities;  // velocities[k] belongs to atoms[k]; empty if none
-  int n_bond_types = 0, n_angle_types = 0;
-  std::vector<LammpsBonded> bonds, angles;        // in file order
+  int n_bond_types = 0, n_angle_types = 0, n_dihedral_types = 0;
+  std::vector<LammpsBonded> bonds, angles, dihedrals;  // in file order
 };
 
 // Reads the header ("N atoms", "M atom types", "xlo xhi", "ylo yhi", "zlo zhi", "N bonds", "N bond
-// types", "N angles", "N angle types"; zero counts of dihedrals, impropers, ... are accepted), the
-// Masses, Atoms, Velocities ("id vx vy vz"), Bonds ("id type a b") and Angles ("id type a b c")
-// sections, and skips "... Coeffs" sections (interactions come from the config). Atoms lines are
+// types", "N angles", "N angle types", "N dihedrals", "N dihedral types"; zero counts of impropers, ...
+// are accepted), the Masses, Atoms, Velocities ("id vx vy vz"), Bonds ("id type a b"), Angles ("id type
+// a b c") and Dihedrals ("id type a b c d") sections, and skips "... Coeffs" sections (interactions come from the config). Atoms lines are
 // "id type x y z" (atomic), "id mol type x y z" (bond, angle, molecular) or "id mol type q x y z"
 // (full; every charge must be zero: DPD has no electrostatics), "id type T cv x y z" (edpd: the
 // internal temperature and heat capacity of energy-conserving DPD) or "id type x y z cc1 .. ccN" (tdpd,
@@ -53,8 +53,8 @@ struct LammpsData {
 // negative, and every number finite (NaN and inf are refused naming the line).
 // Everything else is an error. Errors are ConfigError naming the file and, for a bad line, its
 // line number: malformed line, tilted box ("orthorhombic only"), an atom style not read, a nonzero
-// charge, dihedrals or impropers, duplicate id, type out of range, count mismatch, missing Atoms
-// section, velocity for an unknown id, a bond or angle naming an atom that does not exist.
+// charge, impropers, duplicate id, type out of range, count mismatch, missing Atoms
+// section, velocity for an unknown id, a bond, angle or dihedral naming an atom that does not exist.
 LammpsData read_lammps_data(const std::filesystem::path& path, int tdpd_concentrations = 0);
 
 }  // namespace mesodpd

@@ -70,6 +70,12 @@ void write_state_checkpoint(const std::filesystem::path& file, const StateHeader
       w.put<std::uint8_t>(sp.frozen ? 1 : 0);
     }
   }
+  // Dihedrals as (a, b, c, d, type), 32-bit words (format 8).
+  words.clear();
+  if (topology)
+    for (const Dihedral& d : topology->dihedrals)
+      words.insert(words.end(), {d.a, d.b, d.c, d.d, static_cast<std::uint32_t>(d.type)});
+  w.put_vector(words);
   write_checkpoint_file(file, w.bytes());
 }
 
@@ -160,6 +166,13 @@ StateCheckpoint read_state_checkpoint(const std::filesystem::path& file) {
       sp.frozen = r.get<std::uint8_t>() != 0;
       h.species.push_back(std::move(sp));
     }
+  }
+  if (version >= 8) {
+    const std::vector<std::uint32_t> dihedrals = r.get_vector<std::uint32_t>();
+    if (dihedrals.size() % 5 != 0) throw ConfigError(fmt::format("{}: damaged topology section", where));
+    for (std::size_t k = 0; k < dihedrals.size(); k += 5)
+      c.topology.dihedrals.push_back({dihedrals[k], dihedrals[k + 1], dihedrals[k + 2], dihedrals[k + 3],
+                                      static_cast<std::int32_t>(dihedrals[k + 4])});
   }
   r.expect_end();
   return c;

@@ -19,9 +19,10 @@ namespace mesodpd {
 // to this refactor); 4: named, typed fields from the particle field list; 5: the molecular topology
 // (bonds and angles by global id) after the observers' section; 6: the run's configuration that the
 // checkpoint fixes (periodicity, species) at the end; 7: named sections, one per model, in place of the
-// observers' one blob. Formats 5 and 6 are still read: their blob is split into the sections of
-// format 7 (split_observer_state below), and a format 5 file has no configuration.
-inline constexpr int kStateFormatVersion = 7;
+// observers' one blob; 8: the dihedrals (a, b, c, d, type) at the end. Formats 5 to 7 are still read
+// (without dihedrals): their blob is split into the sections of format 7 (split_observer_state below),
+// and a format 5 file has no configuration.
+inline constexpr int kStateFormatVersion = 8;
 inline constexpr int kOldestReadableStateFormat = 5;
 
 // A species as the run that wrote the checkpoint configured it ([[species]] name, mass, count, frozen).

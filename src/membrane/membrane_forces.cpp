@@ -2,6 +2,7 @@
 #include "membrane/membrane_forces.hpp"
 
 #include "core/philox.hpp"
+#include "physics/bond_laws.hpp"
 
 #include <fmt/format.h>
 
@@ -13,27 +14,19 @@ namespace mesodpd::membrane {
 
 namespace {
 
-// The angle between the outward normals of the triangles (a, b, c) and (d, c, b) at their shared edge
-// b-c, positive where the surface is convex, and its gradient with respect to a, b, c, d (the form of
-// Bridson, Marino & Fedkiw, SCA 2003: moving a or d along its triangle's outward normal flattens a
-// convex hinge).
+// The hinge angle at edge b-c and its gradient (physics/bond_laws.hpp's hinge_angle, shared with the
+// bonded dihedrals): the angle between the outward normals of the triangles (a, b, c) and (d, c, b),
+// positive where the surface is convex.
 struct Dihedral {
   double theta = 0;
   Vec3 ga, gb, gc, gd;
 };
 Dihedral dihedral(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
-  const Vec3 e = c - b;
-  const double le = norm(e);
-  const Vec3 n1 = cross(b - a, c - a), n2 = cross(c - d, b - d);
-  const double q1 = dot(n1, n1), q2 = dot(n2, n2);
-  Dihedral h;
-  h.theta = std::atan2(dot(cross(n1, n2), e) / le, dot(n1, n2));
-  const Vec3 u1 = (1.0 / q1) * n1, u2 = (1.0 / q2) * n2;
-  h.ga = -le * u1;
-  h.gd = -le * u2;
-  h.gb = (-dot(a - c, e) / le) * u1 + (-dot(d - c, e) / le) * u2;
-  h.gc = (dot(a - b, e) / le) * u1 + (dot(d - b, e) / le) * u2;
-  return h;
+  const double ra[3] = {a.x - b.x, a.y - b.y, a.z - b.z}, rc[3] = {c.x - b.x, c.y - b.y, c.z - b.z},
+               rd[3] = {d.x - b.x, d.y - b.y, d.z - b.z};
+  const mesodpd::Hinge g = hinge_angle(ra, rc, rd);
+  const auto v = [](const double* q) { return Vec3{q[0], q[1], q[2]}; };
+  return {g.theta, v(g.ga), v(g.gb), v(g.gc), v(g.gd)};
 }
 
 // Area of triangle (a, b, c) and its gradient with respect to each corner.

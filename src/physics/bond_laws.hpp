@@ -116,4 +116,85 @@ MESODPD_HD AngleForce angle_force(const AngleParams& p, const double b1[3], cons
   return out;
 }
 
+// The hinge angle theta between the outward normals of the triangles (a, b, c) and (d, c, b) at their
+// shared edge b-c (LAMMPS's dihedral i, j, k, l = a, b, c, d), positive where the hinge is convex, 0 when
+// the four atoms lie flat with a and d on opposite sides of b-c; and its gradient with respect to each
+// atom (the form of Bridson, Marino & Fedkiw, SCA 2003). Positions relative to b: a - b, c - b, d - b.
+// Written once for the bonded dihedrals and the membrane's bending (membrane/membrane_forces.cpp).
+struct Hinge {
+  double theta = 0;
+  double ga[3] = {0, 0, 0}, gb[3] = {0, 0, 0}, gc[3] = {0, 0, 0}, gd[3] = {0, 0, 0};
+  bool flat = false;  // a triangle of zero area: no normal, no angle and no gradient
+};
+
+MESODPD_HD void cross3(const double u[3], const double v[3], double out[3]) {
+  out[0] = u[1] * v[2] - u[2] * v[1];
+  out[1] = u[2] * v[0] - u[0] * v[2];
+  out[2] = u[0] * v[1] - u[1] * v[0];
+}
+MESODPD_HD double dot3(const double u[3], const double v[3]) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
+
+MESODPD_HD Hinge hinge_angle(const double a[3], const double c[3], const double d[3]) {
+  Hinge h;
+  const double* e = c;  // c - b
+  const double le = std::sqrt(dot3(e, e));
+  const double ma[3] = {-a[0], -a[1], -a[2]};                    // b - a
+  const double ca[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};  // c - a
+  const double cd[3] = {c[0] - d[0], c[1] - d[1], c[2] - d[2]};  // c - d
+  const double md[3] = {-d[0], -d[1], -d[2]};                    // b - d
+  double n1[3], n2[3], n12[3];
+  cross3(ma, ca, n1);
+  cross3(cd, md, n2);
+  const double q1 = dot3(n1, n1), q2 = dot3(n2, n2);
+  if (!(q1 > 0.0) || !(q2 > 0.0) || !(le > 0.0)) {
+    h.flat = true;
+    return h;
+  }
+  cross3(n1, n2, n12);
+  h.theta = std::atan2(dot3(n12, e) / le, dot3(n1, n2));
+  const double ac_e = (a[0] - c[0]) * e[0] + (a[1] - c[1]) * e[1] + (a[2] - c[2]) * e[2];  // (a - c) . e
+  const double dc_e = (d[0] - c[0]) * e[0] + (d[1] - c[1]) * e[1] + (d[2] - c[2]) * e[2];  // (d - c) . e
+  const double ab_e = dot3(a, e), db_e = dot3(d, e);                                      // (a - b) . e, (d - b) . e
+  for (int k = 0; k < 3; ++k) {
+    const double u1 = n1[k] / q1, u2 = n2[k] / q2;
+    h.ga[k] = -le * u1;
+    h.gd[k] = -le * u2;
+    h.gb[k] = (-ac_e / le) * u1 + (-dc_e / le) * u2;
+    h.gc[k] = (ab_e / le) * u1 + (db_e / le) * u2;
+  }
+  return h;
+}
+
+// Parameters of one dihedral type: U = k [1 - cos(theta - theta0)] with theta the hinge angle above (the
+// Kantor-Nelson bending of a triangulated membrane; with theta0 = 0 it is LAMMPS's `dihedral_style
+// harmonic` K [1 + d cos(n phi)] with K = k, d = +1, n = 1, whose phi is pi - theta).
+struct DihedralParams {
+  double k = 0;
+  double theta0 = 0;  // radians
+};
+
+// Forces on the four atoms of a dihedral (positions relative to b), its energy and its angle.
+struct DihedralForce {
+  double fa[3] = {0, 0, 0}, fb[3] = {0, 0, 0}, fc[3] = {0, 0, 0}, fd[3] = {0, 0, 0};
+  double energy = 0;
+  double theta = 0;
+};
+
+MESODPD_HD DihedralForce dihedral_force(const DihedralParams& p, const double a[3], const double c[3],
+                                               const double d[3]) {
+  DihedralForce out;
+  const Hinge h = hinge_angle(a, c, d);
+  if (h.flat) return out;  // a degenerate triangle: no normal, no force
+  out.theta = h.theta;
+  out.energy = p.k * (1.0 - std::cos(h.theta - p.theta0));
+  const double dudt = p.k * std::sin(h.theta - p.theta0);
+  for (int k = 0; k < 3; ++k) {
+    out.fa[k] = -dudt * h.ga[k];
+    out.fb[k] = -dudt * h.gb[k];
+    out.fc[k] = -dudt * h.gc[k];
+    out.fd[k] = -dudt * h.gd[k];
+  }
+  return out;
+}
+
 }  // namespace mesodpd

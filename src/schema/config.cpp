@@ -163,6 +163,8 @@ void read_topology(const Section& top, SimulationSpec& spec) {
     read_keys(bond_type_keys(), s, spec.bond_types.emplace_back());
   for (const Section& s : top.tables("angle_type", angle_type_keys().names()))
     read_keys(angle_type_keys(), s, spec.angle_types.emplace_back());
+  for (const Section& s : top.tables("dihedral_type", dihedral_type_keys().names()))
+    read_keys(dihedral_type_keys(), s, spec.dihedral_types.emplace_back());
   for (const Section& s : top.tables("molecule", molecule_keys().names())) {
     MoleculeSpec& m = spec.molecules.emplace_back();
     read_keys(molecule_keys(), s, m);
@@ -265,7 +267,7 @@ std::vector<std::string_view> allowed_tables(std::vector<std::string_view> own, 
 // The top-level tables the schema reads itself, and those it reads inside [analysis].
 const std::vector<std::string_view> kSchemaTables{"system", "species",  "pair",  "integrator", "run",       "neighbor",
                                                   "init",   "output",   "poiseuille", "analysis", "parallel", "solid",
-                                                  "walls",  "bond_type", "angle_type", "molecule", "bonds"};
+                                                  "walls",  "bond_type", "angle_type", "dihedral_type", "molecule", "bonds"};
 const std::vector<std::string_view> kAnalysisTables{"rdf", "msd", "fields", "surface_tension", "droplet", "stress_profile"};
 
 // Each model section the file writes, read through the model's declared keys into spec.models. A

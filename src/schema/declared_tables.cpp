@@ -85,6 +85,8 @@ std::vector<DeclaredTable> declared_tables() {
                      "name = \"b\"\nstyle = \"harmonic\"\nk = 1"));
   out.push_back(each(angle_type_keys(), +[](const SimulationSpec& s) -> const auto& { return s.angle_types; },
                      "name = \"t\"\nk = 1"));
+  out.push_back(each(dihedral_type_keys(), +[](const SimulationSpec& s) -> const auto& { return s.dihedral_types; },
+                     "name = \"d\"\nk = 1"));
   out.push_back(each(molecule_keys(), +[](const SimulationSpec& s) -> const auto& { return s.molecules; },
                      "name = \"m\"\nsequence = \"A2\"\nbond_type = \"b\"\ncount = 1"));
   out.push_back(one(bonds_keys(), whole));

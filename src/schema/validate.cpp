@@ -652,6 +652,15 @@ void validate_topology(SimulationSpec& spec) {
         fail(key + ".name", show(a.name), fmt::format("duplicate angle type name (also angle_type[{}].name)", prev));
     angle_type_keys().check(key, a);
   }
+  for (std::size_t k = 0; k < spec.dihedral_types.size(); ++k) {
+    DihedralTypeSpec& d = spec.dihedral_types[k];
+    const std::string key = fmt::format("dihedral_type[{}]", k);
+    if (!valid_species_name(d.name)) fail(key + ".name", show(d.name), "must be non-empty and use only letters, digits and '_'");
+    for (std::size_t prev = 0; prev < k; ++prev)
+      if (spec.dihedral_types[prev].name == d.name)
+        fail(key + ".name", show(d.name), fmt::format("duplicate dihedral type name (also dihedral_type[{}].name)", prev));
+    dihedral_type_keys().check(key, d);
+  }
   const double volume = spec.box[0] * spec.box[1] * spec.box[2];
   for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
     MoleculeSpec& m = spec.molecules[k];

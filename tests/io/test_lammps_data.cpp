@@ -161,7 +161,7 @@ TEST_F(LammpsDataTest, ReadsEdpdAndTdpdColumns) {
   refused("Atoms # tdpd\n\n1 1 0 0 0 1\n2 1 1 1 1 1\n", 2, 10, "cc1 .. cc2");
 }
 
-// Styles molecular and full (zero charges): molecule ids, Bonds and Angles read exactly.
+// Styles molecular and full (zero charges): molecule ids, Bonds, Angles and Dihedrals read exactly.
 TEST_F(LammpsDataTest, ReadsMolecularTopology) {
   const std::string molecular = R"(chains
 4 atoms
@@ -171,7 +171,9 @@ TEST_F(LammpsDataTest, ReadsMolecularTopology) {
 2 angles
 1 angle types
 1 extra bond per atom
-0 dihedrals
+1 dihedrals
+1 dihedral types
+0 impropers
 0 10 xlo xhi
 0 10 ylo yhi
 0 10 zlo zhi
@@ -197,6 +199,10 @@ Angles
 
 1 1 1 2 3
 2 1 2 3 4
+
+Dihedrals
+
+1 1 1 2 3 4
 )";
   for (const bool full : {false, true}) {
     std::string text = molecular;
@@ -221,6 +227,10 @@ Angles
     ASSERT_EQ(d.angles.size(), 2u);
     EXPECT_EQ(d.angles[1].atoms[1], 3u);
     EXPECT_EQ(d.angles[1].atoms[2], 4u);
+    EXPECT_EQ(d.n_dihedral_types, 1);
+    ASSERT_EQ(d.dihedrals.size(), 1u);
+    EXPECT_EQ(d.dihedrals[0].atoms[0], 1u);
+    EXPECT_EQ(d.dihedrals[0].atoms[3], 4u);
   }
 }
 
@@ -306,7 +316,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"unknown_header",
                 "title\n1 atoms\n1 atom types\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n3 widgets\n", 7,
                 "unknown header line '3 widgets'"},
-        BadCase{"dihedrals", "title\n1 atoms\n1 atom types\n4 dihedrals\n", 4, "'dihedrals' is not supported"},
+        BadCase{"impropers", "title\n1 atoms\n1 atom types\n4 impropers\n", 4, "'impropers' is not supported"},
+        BadCase{"dihedrals_missing", "title\n4 atoms\n1 atom types\n1 dihedrals\n1 dihedral types\n0 9 xlo xhi\n"
+                "0 9 ylo yhi\n0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n3 1 1 0 1 1\n4 1 1 1 1 1\n",
+                std::nullopt, "no Dihedrals section"},
+        BadCase{"dihedral_columns", "title\n4 atoms\n1 atom types\n1 dihedrals\n1 dihedral types\n0 9 xlo xhi\n"
+                "0 9 ylo yhi\n0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n3 1 1 0 1 1\n4 1 1 1 1 1\n\n"
+                "Dihedrals\n\n1 1 1 2 3\n",
+                19, "id type atom1 atom2 atom3 atom4"},
+        BadCase{"dihedral_unknown_atom", "title\n4 atoms\n1 atom types\n1 dihedrals\n1 dihedral types\n0 9 xlo xhi\n"
+                "0 9 ylo yhi\n0 9 zlo zhi\n\nAtoms\n\n1 1 1 0 0 0\n2 1 1 0 0 1\n3 1 1 0 1 1\n4 1 1 1 1 1\n\n"
+                "Dihedrals\n\n1 1 1 2 3 7\n",
+                19, "names atom 7, which is not in the Atoms section"},
         BadCase{"bonds_not_declared", header() + "Atoms\n\n1 1 0 0 0\n2 1 0 0 0\n\nBonds\n\n1 1 1 2\n", 13,
                 "declares 0"},
         BadCase{"bonds_missing", "title\n2 atoms\n1 atom types\n1 bonds\n1 bond types\n0 9 xlo xhi\n0 9 ylo yhi\n"

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "octahedra_data.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -202,6 +204,41 @@ std::string bonds_config(const std::string& extra) {
          "[output.dump]\nevery = 40\nfields = [\"id\", \"mol\", \"position\", \"velocity\", \"image\"]\n\n"
          "[analysis.stress_profile]\naxis = \"z\"\nbins = 9\nstart = 20\nevery = 20\nblocks = 2\n\n" +
          extra;
+}
+
+// Dihedrals (a LAMMPS data file of 27 jittered octahedra, tests/octahedra_data.hpp) in a DPD thermostat:
+// the octahedra on the rank boundaries have dihedrals whose atoms are owned by both ranks, found as
+// ghosts, their forces sent home. Same bits on 1, 2 and 4 ranks and after a restart on another count.
+TEST(Mpi, DihedralsGiveTheSameBitsOnOneTwoAndFourRanksAndAfterARestart) {
+  const fs::path dir = fresh_dir();
+  std::vector<std::array<double, 3>> centres;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) centres.push_back({1.5 + 3.0 * i, 1.5 + 3.0 * j, 1.5 + 3.0 * k});
+  write(dir / "octahedra.data", mesodpd::test::octahedra_data(centres, 9.0, 0.1));
+  const auto config = [&](const std::string& extra) {
+    return "[system]\nbox = [9.0, 9.0, 9.0]\nkT = 1.0\nseed = 27\n\n[[species]]\nname = \"V\"\n\n"
+           "[pair]\na = 25.0\ngamma = 4.5\n\n[init]\nlammps_data = \"octahedra.data\"\nvelocities = \"maxwell\"\n\n"
+           "[[bond_type]]\nname = \"edge\"\nstyle = \"harmonic\"\nk = 50.0\nr0 = 1.4142\n\n"
+           "[[dihedral_type]]\nname = \"hinge\"\nk = 3.0\ntheta0 = 20.0\n\n[bonds]\nreach = 2.5\n\n"
+           "[integrator]\ndt = 0.01\n\n[run]\nsteps = 100\n\n[output]\nthermo_every = 20\nprogress = false\n\n" +
+           extra;
+  };
+  write(dir / "d1.toml", config(""));
+  write(dir / "d2.toml", config(grid_table(2, 1, 1)));
+  write(dir / "d4.toml", config(grid_table(2, 2, 1)));
+  for (int ranks : {1, 2, 4}) {
+    const std::string name = fmt::format("d{}", ranks);
+    const Result r = mpirun(dir, ranks, "run " + name + ".toml --out " + name);
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+  }
+  ASSERT_EQ(mpirun(dir, 2, "run d2.toml --out half --steps 50").code, 0);
+  fs::copy_file(dir / "half" / "checkpoint.mdpd", dir / "d50.mdpd");
+  const Result resumed = mpirun(dir, 4, "run d4.toml --out half --restart d50.mdpd");
+  ASSERT_EQ(resumed.code, 0) << resumed.out << resumed.err;
+  for (const char* file : {"checkpoint.mdpd", "thermo.csv"})
+    for (const char* other : {"d2", "d4", "half"})
+      EXPECT_TRUE(read_all(dir / other / file) == read_all(dir / "d1" / file)) << file << " differs in " << other;
 }
 
 // (The stress profile, gathered on the root, is compared too: its files are the same bytes.)

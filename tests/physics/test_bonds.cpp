@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +21,8 @@
 #include "mesodpd/validate.hpp"
 #include "physics/bond_laws.hpp"
 #include "test_support.hpp"
+#include "octahedra_data.hpp"
+#include "threads_and_restart.hpp"
 
 namespace mesodpd {
 namespace {
@@ -94,6 +97,66 @@ TEST(BondLaws, AngleForceIsMinusTheEnergyGradient) {
   const double b1[3] = {1, 0, 0}, b2[3] = {0.5, std::sqrt(3.0) / 2, 0};  // theta = 60 degrees
   EXPECT_NEAR(angle_force(make_angle_params(3.0, 0.0), b1, b2).energy, 3.0 * 0.5, 1e-12);
   EXPECT_NEAR(angle_force(make_angle_params(3.0, M_PI / 3), b1, b2).energy, 0.0, 1e-12);
+}
+
+// The dihedral law U = k [1 - cos(theta - theta0)] over the hinge angle: forces are minus the gradient
+// (finite differences over all four atoms), they sum to zero and have no torque, and the angle is the
+// one between the triangles' normals (0 flat, 90 degrees for a right-angled hinge).
+TEST(BondLaws, DihedralForceIsMinusTheEnergyGradient) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double theta0_deg : {0.0, 35.0, -120.0}) {
+    const DihedralParams p{2.5, theta0_deg * M_PI / 180.0};
+    for (int trial = 0; trial < 20; ++trial) {
+      double r[4][3];
+      for (auto& a : r)
+        for (double& c : a) c = u(rng);
+      auto eval = [&](const double (&q)[4][3]) {
+        double ra[3], rc[3], rd[3];
+        for (int c = 0; c < 3; ++c) {
+          ra[c] = q[0][c] - q[1][c];
+          rc[c] = q[2][c] - q[1][c];
+          rd[c] = q[3][c] - q[1][c];
+        }
+        return dihedral_force(p, ra, rc, rd);
+      };
+      const DihedralForce f = eval(r);
+      const double* forces[4] = {f.fa, f.fb, f.fc, f.fd};
+      double total[3] = {0, 0, 0}, torque[3] = {0, 0, 0};
+      for (int atom = 0; atom < 4; ++atom) {
+        const double* q = r[atom];
+        const double* F = forces[atom];
+        for (int d = 0; d < 3; ++d) total[d] += F[d];
+        torque[0] += q[1] * F[2] - q[2] * F[1];
+        torque[1] += q[2] * F[0] - q[0] * F[2];
+        torque[2] += q[0] * F[1] - q[1] * F[0];
+        for (int d = 0; d < 3; ++d) {
+          const double h = 1e-6;
+          double up[4][3], dn[4][3];
+          std::copy(&r[0][0], &r[0][0] + 12, &up[0][0]);
+          std::copy(&r[0][0], &r[0][0] + 12, &dn[0][0]);
+          up[atom][d] += h;
+          dn[atom][d] -= h;
+          const double fd = -(eval(up).energy - eval(dn).energy) / (2 * h);
+          EXPECT_NEAR(F[d], fd, 2e-5 * (1 + std::abs(fd))) << "theta0 " << theta0_deg << " atom " << atom;
+        }
+      }
+      for (int d = 0; d < 3; ++d) {
+        EXPECT_NEAR(total[d], 0.0, 1e-9);
+        EXPECT_NEAR(torque[d], 0.0, 1e-9);
+      }
+    }
+  }
+  // b = origin, c along x: a flat hinge (a and d on opposite sides of b-c) has theta = 0; lifting d out
+  // of the plane to a right angle gives |theta| = 90 degrees.
+  const double a[3] = {0.5, -1.0, 0.0}, c[3] = {1.0, 0.0, 0.0}, flat[3] = {0.5, 1.0, 0.0}, up[3] = {0.5, 0.0, 1.0};
+  EXPECT_NEAR(dihedral_force(DihedralParams{3.0, 0.0}, a, c, flat).theta, 0.0, 1e-12);
+  EXPECT_NEAR(dihedral_force(DihedralParams{3.0, 0.0}, a, c, flat).energy, 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(dihedral_force(DihedralParams{3.0, 0.0}, a, c, up).theta), M_PI / 2, 1e-12);
+  EXPECT_NEAR(dihedral_force(DihedralParams{3.0, 0.0}, a, c, up).energy, 3.0, 1e-12);
+  // A triangle of zero area has no normal: no force.
+  const double on_line[3] = {2.0, 0.0, 0.0};
+  EXPECT_EQ(dihedral_force(DihedralParams{3.0, 0.0}, on_line, c, up).energy, 0.0);
 }
 
 // --- the engine ------------------------------------------------------------------------------------
@@ -549,6 +612,74 @@ TEST(ChainAnalysis, GsdTrajectoryHoldsTheTopologyAndIsMeasured) {
                           (dir / "run" / "trajectory.gsd").string() + "' 210 190 > '" + (dir / "log.txt").string() +
                           "' 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << test::read_file(dir / "log.txt");
+  fs::remove_all(dir);
+}
+
+// A closed membrane from a LAMMPS data file (atom_style molecular with Bonds and Dihedrals,
+// tests/octahedra_data.hpp): the regular octahedron, 6 vertices, 12 edges (harmonic bonds at their rest
+// length) and 12 dihedrals, one per edge. Each hinge's normals meet at 180 - 109.47 = 70.53 degrees
+// (cos = 1/3), so the dihedral energy is 12 k (1 - 1/3); with no pair force it is the whole potential
+// energy. A jittered one, released, is deformed by the flat-preferring hinges with total energy and
+// momentum conserved (no thermostat), the GSD file holds the dihedrals, and the run is bit-identical on
+// one and two threads and across a restart (the checkpoint keeps the dihedrals).
+TEST(Bonded, DihedralsFromADataFileConserveEnergyAndRestartBitIdentical) {
+  const fs::path dir = fs::temp_directory_path() / "mesodpd_test_dihedrals";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "octahedron.data") << test::octahedra_data({{4.0, 4.0, 4.0}}, 8.0, 0.0);
+  std::ofstream(dir / "jittered.data") << test::octahedra_data({{4.0, 4.0, 4.0}}, 8.0, 0.15);
+  const auto spec_with = [&](const std::string& extra, const std::string& file = "jittered.data") {
+    return parse_config("[system]\nbox = [8.0, 8.0, 8.0]\n\n[[species]]\nname = \"V\"\n\n[pair]\na = 0.0\n"
+                        "gamma = 0.0\n\n[init]\nlammps_data = \"" + (dir / file).string() +
+                            "\"\nvelocities = \"zero\"\n\n[integrator]\ndt = 0.002\n\n[[bond_type]]\nname = "
+                            "\"edge\"\nstyle = \"harmonic\"\nk = 50.0\nr0 = 1.4142135623730951\n\n[bonds]\nreach = 2.5\n\n"
+                            "[[dihedral_type]]\n"
+                            "name = \"hinge\"\nk = 2.0\n\n[output]\nthermo_every = 10\nprogress = false\n" + extra,
+                        (dir / "c.toml").string());
+  };
+  {
+    RunOptions o;
+    o.out_dir = dir / "run";
+    {
+      Simulation regular(spec_with("", "octahedron.data"), RunOptions{});
+      ASSERT_EQ(regular.topology().dihedrals.size(), 12u);
+      EXPECT_NEAR(regular.thermo().potential_energy, 12 * 2.0 * (1.0 - 1.0 / 3.0), 1e-6);
+    }
+    Simulation sim(spec_with("[output.dump]\nformat = \"gsd\"\nevery = 100\n"), o);
+    const ThermoState t0 = sim.thermo();
+    double worst = 0;
+    for (int s = 0; s < 2000; ++s) {
+      sim.step();
+      if (s % 10 != 9) continue;
+      const ThermoState t = sim.thermo();
+      worst = std::max(worst, std::abs(t.kinetic_energy + t.potential_energy - t0.potential_energy));
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(t.momentum[c], 0.0, 1e-10) << "step " << s + 1;
+    }
+    const ThermoState t1 = sim.thermo();
+    std::printf("jittered octahedron: potential energy %.6f -> %.6f, kinetic %.6f, largest energy error %.2e\n",
+                t0.potential_energy, t1.potential_energy, t1.kinetic_energy, worst);
+    EXPECT_GT(t1.kinetic_energy, 0.01 * t0.potential_energy);  // the hinges moved it
+    EXPECT_LT(worst, 1e-3 * t0.potential_energy);
+    sim.finish();
+    if (std::system("/usr/bin/python3 -c 'import gsd.hoomd' >/dev/null 2>&1") == 0) {
+      const std::string cmd = "/usr/bin/python3 -c \"import gsd.hoomd as g, sys; t = g.open('" +
+                              (dir / "run" / "trajectory.gsd").string() +
+                              "', 'rb'); f = t[0]; sys.exit(not (f.dihedrals.N == 12 and list(f.dihedrals.types) == "
+                              "['hinge'] and f.dihedrals.group.shape == (12, 4)))\"";
+      EXPECT_EQ(std::system(cmd.c_str()), 0) << "trajectory.gsd lacks the dihedrals";
+    }
+  }
+  test::expect_bit_identical_on_threads_and_restart(spec_with(""), dir / "restart");
+  // Dihedral types need parameters: without the [[dihedral_type]] block the data file is refused.
+  try {
+    SimulationSpec bare = spec_with("");
+    bare.dihedral_types.clear();
+    Simulation sim(bare, RunOptions{});
+    FAIL() << "a dihedral type without parameters was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dihedral"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("jittered.data"), std::string::npos) << e.what();
+  }
   fs::remove_all(dir);
 }
 
