@@ -521,54 +521,29 @@ void GsdWriter::write_frame(const FrameView& f) {
       return std::make_pair(width, table);
     };
     const Topology& topo = *f.topology;
-    if (!topo.bonds.empty()) {
+    // One kind of bonded term: its N, type names, type ids and groups of `width` particle rows.
+    auto terms = [&](const char* prefix, const auto& list, const std::vector<std::string>* names, std::uint32_t width,
+                     const auto& members) {
+      if (list.empty()) return;
       int ntypes = 0;
       std::vector<std::uint32_t> typeid_, group;
-      for (const Bond& b : topo.bonds) {
-        ntypes = std::max(ntypes, b.type + 1);
-        typeid_.push_back(static_cast<std::uint32_t>(b.type));
-        group.push_back(row(b.a));
-        group.push_back(row(b.b));
+      for (const auto& t : list) {
+        ntypes = std::max(ntypes, t.type + 1);
+        typeid_.push_back(static_cast<std::uint32_t>(t.type));
+        for (const std::uint32_t id : members(t)) group.push_back(row(id));
       }
-      const auto [width, table] = type_table(f.bond_type_names, ntypes);
-      chunks.push_back(Chunk::make("bonds/N", kUint32, 1,
-                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.bonds.size())}));
-      chunks.push_back(Chunk::make("bonds/types", kInt8, static_cast<std::uint32_t>(width), table));
-      chunks.push_back(Chunk::make("bonds/typeid", kUint32, 1, typeid_));
-      chunks.push_back(Chunk::make("bonds/group", kUint32, 2, group));
-    }
-    if (!topo.angles.empty()) {
-      int ntypes = 0;
-      std::vector<std::uint32_t> typeid_, group;
-      for (const Angle& a : topo.angles) {
-        ntypes = std::max(ntypes, a.type + 1);
-        typeid_.push_back(static_cast<std::uint32_t>(a.type));
-        group.push_back(row(a.a));
-        group.push_back(row(a.b));
-        group.push_back(row(a.c));
-      }
-      const auto [width, table] = type_table(f.angle_type_names, ntypes);
-      chunks.push_back(Chunk::make("angles/N", kUint32, 1,
-                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.angles.size())}));
-      chunks.push_back(Chunk::make("angles/types", kInt8, static_cast<std::uint32_t>(width), table));
-      chunks.push_back(Chunk::make("angles/typeid", kUint32, 1, typeid_));
-      chunks.push_back(Chunk::make("angles/group", kUint32, 3, group));
-    }
-    if (!topo.dihedrals.empty()) {
-      int ntypes = 0;
-      std::vector<std::uint32_t> typeid_, group;
-      for (const Dihedral& d : topo.dihedrals) {
-        ntypes = std::max(ntypes, d.type + 1);
-        typeid_.push_back(static_cast<std::uint32_t>(d.type));
-        for (const std::uint32_t id : {d.a, d.b, d.c, d.d}) group.push_back(row(id));
-      }
-      const auto [width, table] = type_table(f.dihedral_type_names, ntypes);
-      chunks.push_back(Chunk::make("dihedrals/N", kUint32, 1,
-                                   std::vector<std::uint32_t>{static_cast<std::uint32_t>(topo.dihedrals.size())}));
-      chunks.push_back(Chunk::make("dihedrals/types", kInt8, static_cast<std::uint32_t>(width), table));
-      chunks.push_back(Chunk::make("dihedrals/typeid", kUint32, 1, typeid_));
-      chunks.push_back(Chunk::make("dihedrals/group", kUint32, 4, group));
-    }
+      const auto [name_width, table] = type_table(names, ntypes);
+      const std::string p = prefix;
+      chunks.push_back(Chunk::make(p + "/N", kUint32, 1, std::vector<std::uint32_t>{static_cast<std::uint32_t>(list.size())}));
+      chunks.push_back(Chunk::make(p + "/types", kInt8, static_cast<std::uint32_t>(name_width), table));
+      chunks.push_back(Chunk::make(p + "/typeid", kUint32, 1, typeid_));
+      chunks.push_back(Chunk::make(p + "/group", kUint32, width, group));
+    };
+    terms("bonds", topo.bonds, f.bond_type_names, 2, [](const Bond& b) { return std::array<std::uint32_t, 2>{b.a, b.b}; });
+    terms("angles", topo.angles, f.angle_type_names, 3,
+          [](const Angle& a) { return std::array<std::uint32_t, 3>{a.a, a.b, a.c}; });
+    terms("dihedrals", topo.dihedrals, f.dihedral_type_names, 4,
+          [](const Dihedral& d) { return std::array<std::uint32_t, 4>{d.a, d.b, d.c, d.d}; });
   }
   if (n > 0 && fields_.force) {
     const double* fo[3] = {f.fx, f.fy, f.fz};

@@ -631,36 +631,27 @@ void validate_topology(SimulationSpec& spec) {
       fail("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
            "there are no bonds to subcycle: add [[molecule]] blocks or read a data file with a Bonds section");
   }
-  for (std::size_t k = 0; k < spec.bond_types.size(); ++k) {
-    BondTypeSpec& b = spec.bond_types[k];
-    const std::string key = fmt::format("bond_type[{}]", k);
-    if (!valid_species_name(b.name)) fail(key + ".name", show(b.name), "must be non-empty and use only letters, digits and '_'");
-    for (std::size_t prev = 0; prev < k; ++prev)
-      if (spec.bond_types[prev].name == b.name)
-        fail(key + ".name", show(b.name), fmt::format("duplicate bond type name (also bond_type[{}].name)", prev));
-    bond_type_keys().check(key, b);  // the keys of its style
+  // Each [[bond_type]], [[angle_type]] and [[dihedral_type]]: a valid, unique name and the keys of its style.
+  const auto named_types = [&](auto& types, const char* table, const char* what, const auto& keys, const auto& more) {
+    for (std::size_t k = 0; k < types.size(); ++k) {
+      auto& t = types[k];
+      const std::string key = fmt::format("{}[{}]", table, k);
+      if (!valid_species_name(t.name)) fail(key + ".name", show(t.name), "must be non-empty and use only letters, digits and '_'");
+      for (std::size_t prev = 0; prev < k; ++prev)
+        if (types[prev].name == t.name)
+          fail(key + ".name", show(t.name), fmt::format("duplicate {} type name (also {}[{}].name)", what, table, prev));
+      keys.check(key, t);  // the keys of its style
+      more(key, t);
+    }
+  };
+  named_types(spec.bond_types, "bond_type", "bond", bond_type_keys(), [&](const std::string& key, const BondTypeSpec& b) {
     if (b.style == BondStyleSpec::Harmonic && b.r0 >= reach)
       fail(key + ".r0", show(b.r0), fmt::format("must be shorter than bonds.reach = {} (the reach of the ghost "
                                                 "layer that holds bonded partners)", reach));
-  }
-  for (std::size_t k = 0; k < spec.angle_types.size(); ++k) {
-    AngleTypeSpec& a = spec.angle_types[k];
-    const std::string key = fmt::format("angle_type[{}]", k);
-    if (!valid_species_name(a.name)) fail(key + ".name", show(a.name), "must be non-empty and use only letters, digits and '_'");
-    for (std::size_t prev = 0; prev < k; ++prev)
-      if (spec.angle_types[prev].name == a.name)
-        fail(key + ".name", show(a.name), fmt::format("duplicate angle type name (also angle_type[{}].name)", prev));
-    angle_type_keys().check(key, a);
-  }
-  for (std::size_t k = 0; k < spec.dihedral_types.size(); ++k) {
-    DihedralTypeSpec& d = spec.dihedral_types[k];
-    const std::string key = fmt::format("dihedral_type[{}]", k);
-    if (!valid_species_name(d.name)) fail(key + ".name", show(d.name), "must be non-empty and use only letters, digits and '_'");
-    for (std::size_t prev = 0; prev < k; ++prev)
-      if (spec.dihedral_types[prev].name == d.name)
-        fail(key + ".name", show(d.name), fmt::format("duplicate dihedral type name (also dihedral_type[{}].name)", prev));
-    dihedral_type_keys().check(key, d);
-  }
+  });
+  named_types(spec.angle_types, "angle_type", "angle", angle_type_keys(), [](const std::string&, const AngleTypeSpec&) {});
+  named_types(spec.dihedral_types, "dihedral_type", "dihedral", dihedral_type_keys(),
+              [](const std::string&, const DihedralTypeSpec&) {});
   const double volume = spec.box[0] * spec.box[1] * spec.box[2];
   for (std::size_t k = 0; k < spec.molecules.size(); ++k) {
     MoleculeSpec& m = spec.molecules[k];
