@@ -9,6 +9,7 @@
 #include <limits>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "engine/fixed_point.hpp"
@@ -217,51 +218,36 @@ void BondedForces::lists_through(const std::vector<std::uint32_t>& order) {
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) new_of_old_[order[k]] = static_cast<std::uint32_t>(k);
   auto moved = [&](std::uint32_t j) { return j == IdMap::kNotHere ? j : new_of_old_[j]; };
-  build_grouped(
-      n, spare_start_, spare_bonds_, [&](std::size_t k) { return lb_start_[order[k] + 1] - lb_start_[order[k]]; },
-      [&](std::size_t k, LocalBond* out) {
-        for (std::uint32_t e = lb_start_[order[k]]; e < lb_start_[order[k] + 1]; ++e) {
-          LocalBond b = lbonds_[e];
-          b.j = moved(b.j);
-          *out++ = b;
-        }
-        return out;
-      },
-      lbonds_.size());
-  lb_start_.swap(spare_start_);
-  lbonds_.swap(spare_bonds_);
-  if (!owned_angles_.empty()) {  // else la_start_: n + 1 zeros already
+  // One kind of term: its groups taken in the new order of their owners, partners renumbered by `move`.
+  auto follow = [&](std::vector<std::uint32_t>& start, auto& items, auto& spare, const auto& move) {
+    using Item = typename std::remove_reference_t<decltype(items)>::value_type;
     build_grouped(
-        n, spare_start_, spare_angles_, [&](std::size_t k) { return la_start_[order[k] + 1] - la_start_[order[k]]; },
-        [&](std::size_t k, LocalAngle* out) {
-          for (std::uint32_t e = la_start_[order[k]]; e < la_start_[order[k] + 1]; ++e) {
-            LocalAngle t = langles_[e];
-            t.ja = moved(t.ja);
-            t.jc = moved(t.jc);
+        n, spare_start_, spare, [&](std::size_t k) { return start[order[k] + 1] - start[order[k]]; },
+        [&](std::size_t k, Item* out) {
+          for (std::uint32_t e = start[order[k]]; e < start[order[k] + 1]; ++e) {
+            Item t = items[e];
+            move(t);
             *out++ = t;
           }
           return out;
         },
-        langles_.size());
-    la_start_.swap(spare_start_);
-    langles_.swap(spare_angles_);
-  }
-  if (owned_dihedrals_.empty()) return;  // ld_start_: n + 1 zeros already
-  build_grouped(
-      n, spare_start_, spare_dihedrals_, [&](std::size_t k) { return ld_start_[order[k] + 1] - ld_start_[order[k]]; },
-      [&](std::size_t k, LocalDihedral* out) {
-        for (std::uint32_t e = ld_start_[order[k]]; e < ld_start_[order[k] + 1]; ++e) {
-          LocalDihedral t = ldihedrals_[e];
-          t.ja = moved(t.ja);
-          t.jc = moved(t.jc);
-          t.jd = moved(t.jd);
-          *out++ = t;
-        }
-        return out;
-      },
-      ldihedrals_.size());
-  ld_start_.swap(spare_start_);
-  ldihedrals_.swap(spare_dihedrals_);
+        items.size());
+    start.swap(spare_start_);
+    items.swap(spare);
+  };
+  follow(lb_start_, lbonds_, spare_bonds_, [&](LocalBond& b) { b.j = moved(b.j); });
+  // Without angles or dihedrals their starts are n + 1 zeros already.
+  if (!owned_angles_.empty())
+    follow(la_start_, langles_, spare_angles_, [&](LocalAngle& t) {
+      t.ja = moved(t.ja);
+      t.jc = moved(t.jc);
+    });
+  if (!owned_dihedrals_.empty())
+    follow(ld_start_, ldihedrals_, spare_dihedrals_, [&](LocalDihedral& t) {
+      t.ja = moved(t.ja);
+      t.jc = moved(t.jc);
+      t.jd = moved(t.jd);
+    });
 }
 
 void BondedForces::prepare_lists(const ParticleData& p) {
