@@ -576,8 +576,6 @@ struct Movers {
   }
 };
 
-// The shift by whole periods that brings the wrapped position r next to the unwrapped point near (core's
-// minimum image of near - r taken off near - r).
 // The nearest image of a difference along axis d however many periods it spans: the gathered vertices are
 // unwrapped (position plus image times the box), so a cell that has travelled k box lengths lies about
 // k L from the wrapped particles near it, beyond what one minimum_image() step brings back.
@@ -587,6 +585,8 @@ double nearest_image(const Box& box, int d, double diff) {
   return diff - box.length(d) * std::round(diff / box.length(d));
 }
 
+// The shift by whole periods that brings the wrapped position r next to the unwrapped point near (the
+// nearest image of near - r taken off near - r).
 Vec3 image_shift(const Box& box, Vec3 r, Vec3 near) {
   const auto along = [&](int d, double diff) { return diff - nearest_image(box, d, diff); };
   return {along(0, near.x - r.x), along(1, near.y - r.y), along(2, near.z - r.z)};
