@@ -309,7 +309,6 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
   };
 
   constexpr std::uint32_t kAhead = 8;
-  const bool no_angles = owned_angles_.empty(), no_dihedrals = owned_dihedrals_.empty();
   // The terms owned by local particle i.
   // `a`: the thread's integer sums ([0..5] virial tensor, [6] its trace, [7] energy).
   auto terms = [&]<bool kAtomic>(std::size_t i, std::int64_t* a, std::uint64_t& problem) {
@@ -352,7 +351,8 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
         a[7] += to_fixed(bf.energy, kVirialScale);
       }
     }
-    for (std::uint32_t k = no_angles ? 0 : la_start_[i]; k < (no_angles ? 0 : la_start_[i + 1]); ++k) {
+    // (Without angles or dihedrals their starts are n + 1 zeros: the loops are empty.)
+    for (std::uint32_t k = la_start_[i]; k < la_start_[i + 1]; ++k) {
       const LocalAngle& t = langles_[k];
       const std::uint32_t ja = t.ja, jc = t.jc;
       if (ja == IdMap::kNotHere || jc == IdMap::kNotHere) {
@@ -378,7 +378,6 @@ std::optional<BondProblem> BondedForces::compute(ParticleData& p, const Box& box
         a[7] += to_fixed(af.energy, kVirialScale);
       }
     }
-    if (no_dihedrals) return;
     for (std::uint32_t k = ld_start_[i]; k < ld_start_[i + 1]; ++k) {
       const LocalDihedral& t = ldihedrals_[k];
       const std::uint32_t ja = t.ja, jc = t.jc, jd = t.jd;

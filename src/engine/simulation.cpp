@@ -299,21 +299,18 @@ void Simulation::add_bonded_forces(bool with_sums, std::vector<double>* fast, bo
   bonded_seconds_ += omp_get_wtime() - t0;
   if (!problem) return;
   const Topology& t = bonds_.topology();
-  if (problem->kind == BondProblem::AngleTooLong) {
-    const Angle& a = t.angles[problem->index];
-    throw BlowUpError(step_, a.b,
-                      fmt::format("angle {} (particle ids {}, {}, {}) at step {}: a partner of the centre lies beyond "
-                                  "the ghost layer of its rank (which reaches at least bonds.reach = {}); raise "
-                                  "bonds.reach (wider neighbour cells) or use stiffer bonds",
-                                  problem->index + 1, a.a, a.b, a.c, step_, bonds_.reach()));
-  }
-  if (problem->kind == BondProblem::DihedralTooLong) {
-    const Dihedral& d = t.dihedrals[problem->index];
-    throw BlowUpError(step_, d.b,
-                      fmt::format("dihedral {} (particle ids {}, {}, {}, {}) at step {}: a partner of atom {} lies "
-                                  "beyond the ghost layer of its rank (which reaches at least bonds.reach = {}); raise "
-                                  "bonds.reach (wider neighbour cells)",
-                                  problem->index + 1, d.a, d.b, d.c, d.d, step_, d.b, bonds_.reach()));
+  if (problem->kind == BondProblem::AngleTooLong || problem->kind == BondProblem::DihedralTooLong) {
+    // A partner of the evaluating atom (an angle's centre, a dihedral's b) beyond the ghost layer.
+    const bool angle = problem->kind == BondProblem::AngleTooLong;
+    const std::uint32_t owner = angle ? t.angles[problem->index].b : t.dihedrals[problem->index].b;
+    const std::string ids = angle ? fmt::format("{}, {}, {}", t.angles[problem->index].a, owner, t.angles[problem->index].c)
+                                  : fmt::format("{}, {}, {}, {}", t.dihedrals[problem->index].a, owner,
+                                                t.dihedrals[problem->index].c, t.dihedrals[problem->index].d);
+    throw BlowUpError(step_, owner,
+                      fmt::format("{} {} (particle ids {}) at step {}: a partner of atom {} lies beyond the ghost layer "
+                                  "of its rank (which reaches at least bonds.reach = {}); raise bonds.reach (wider "
+                                  "neighbour cells) or use stiffer bonds",
+                                  angle ? "angle" : "dihedral", problem->index + 1, ids, step_, owner, bonds_.reach()));
   }
   const Bond& b = t.bonds[problem->index];
   if (problem->kind == BondProblem::Broken) {
