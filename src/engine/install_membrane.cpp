@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <memory>
@@ -699,7 +700,7 @@ class MembraneBounceStage final : public Stage {
     const double dt = ctx.dt;
     if (!movers_(p, i)) return 0;
     const Vec3 r{p.x[i], p.y[i], p.z[i]};
-    const std::size_t bin = bin_of(box, r);
+    const std::size_t bin = locate(box, r).bin;
     if (bin_start_[bin] == bin_start_[bin + 1]) return 0;
     // The path of this step, then after each contact the rest of the step from the contact point with
     // the reflected velocity, until a path meets nothing (at most kRounds contacts).
@@ -713,7 +714,7 @@ class MembraneBounceStage final : public Stage {
     int rounds = 0;
     const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
     for (; rounds < kRounds; ++rounds) {
-      const auto candidates = candidates_near(box, end);
+      const Located where = locate(box, end);
       double best = 2.0;
       membrane::Hit hit;
       std::array<std::uint32_t, 3> corners{};
@@ -724,26 +725,48 @@ class MembraneBounceStage final : public Stage {
       // far smaller than half the box), without reading the triangle's corners.
       const Vec3 pc = 0.5 * (start + end);
       const Vec3 ph{0.5 * std::abs(end.x - start.x), 0.5 * std::abs(end.y - start.y), 0.5 * std::abs(end.z - start.z)};
-      for (const auto& [c, t] : candidates) {
-        if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
-        // Most candidates are ruled out by their swept boxes.
-        const Box3& tb = swept_[tri_offset_[c] + t];
-        if (!near_box(box, pc, ph, tb)) continue;
-        const std::array<std::uint32_t, 3> v = corners_of(c, t);
-        const Vec3 s = image_shift(box, end, x1[v[0]]);
-        const Vec3 ps = start + s, pe = end + s;
-        if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
-            std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
-          continue;
-        const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
-        const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
-        if (a && a->t < best) {
-          best = a->t;
-          hit = *a;
-          corners = v;
-          shift = s;
-          hit_cell = c;
-          hit_tri = t;
+      // First in single precision against the slots' boxes in the wrapped frame, contiguous in memory.
+      const float fc[3] = {static_cast<float>(pc.x - static_cast<double>(where.image[0]) * box.len.x),
+                           static_cast<float>(pc.y - static_cast<double>(where.image[1]) * box.len.y),
+                           static_cast<float>(pc.z - static_cast<double>(where.image[2]) * box.len.z)};
+      const float fh[3] = {static_cast<float>(ph.x), static_cast<float>(ph.y), static_cast<float>(ph.z)};
+      // Branch-free over blocks of slots, the survivors (about one in a thousand) then in slot order.
+      const std::size_t k_end = bin_start_[where.bin + 1];
+      for (std::size_t base = bin_start_[where.bin]; base < k_end; base += kBlock) {
+        std::array<std::uint32_t, kBlock> pass;
+        std::size_t np = 0;
+        const std::size_t block_end = std::min(k_end, base + kBlock);
+        for (std::size_t k = base; k < block_end; ++k) {
+          const SlotBox& sb = slot_boxes_[k];
+          const bool in = (std::abs(fc[0] - sb.c[0]) <= fh[0] + sb.h[0]) & (std::abs(fc[1] - sb.c[1]) <= fh[1] + sb.h[1]) &
+                          (std::abs(fc[2] - sb.c[2]) <= fh[2] + sb.h[2]);
+          pass[np] = static_cast<std::uint32_t>(k - base);
+          np += in ? 1 : 0;
+        }
+        for (std::size_t q = 0; q < np; ++q) {
+          const std::size_t k = base + pass[q];
+          const std::uint32_t g = slot_boxes_[k].triangle;
+          const auto [c, t] = triangles_[g];
+          if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
+          // The survivors' swept boxes again, in double precision at the nearest image.
+          const Box3& tb = swept_[g];
+          if (!near_box(box, pc, ph, tb)) continue;
+          const std::array<std::uint32_t, 3> v = corners_of(c, t);
+          const Vec3 s = image_shift(box, end, x1[v[0]]);
+          const Vec3 ps = start + s, pe = end + s;
+          if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
+              std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
+            continue;
+          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
+          const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
+          if (a && a->t < best) {
+            best = a->t;
+            hit = *a;
+            corners = v;
+            shift = s;
+            hit_cell = c;
+            hit_tri = t;
+          }
         }
       }
       if (best > 1.0) break;
@@ -780,11 +803,21 @@ class MembraneBounceStage final : public Stage {
   }
 
   static constexpr std::size_t kWidth = 10;
+  static constexpr std::size_t kBlock = 64;
   static constexpr int kRounds = 4;
   static constexpr double kBinWidth = 1.0;  // at least
-  struct Entry {
-    std::size_t bin;
-    std::uint32_t cell, triangle;
+  // A triangle listed in a bin (its index in triangles_) with its box of this step, moved by whole box
+  // lengths to the image next to the bin (the wrapped frame), as centre and half extents in single
+  // precision, the half extents padded for the rounding; +inf where its listing spans a whole periodic
+  // axis (a box of a few bins), where only near_box's nearest image can tell.
+  struct SlotBox {
+    float c[3], h[3];
+    std::uint32_t triangle;
+  };
+  // A point's bin, and its image (whole box lengths from the wrapped position) on the periodic axes.
+  struct Located {
+    std::size_t bin = 0;
+    std::array<long, 3> image{0, 0, 0};
   };
   struct Box3 {
     Vec3 lo, hi;
@@ -807,21 +840,65 @@ class MembraneBounceStage final : public Stage {
     return {off + tri[0], off + tri[1], off + tri[2]};
   }
 
-  std::size_t bin_index(const Box& box, int d, double v) const {
+  // Along axis d: the bin of coordinate v, and the image of v (0 on a bounded axis, whose end bins take
+  // what lies beyond).
+  std::size_t bin_index(const Box& box, int d, double v, long& image) const {
     const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
-    long k = static_cast<long>(std::floor(v / box.length(d) * static_cast<double>(n)));
+    const long k = static_cast<long>(std::floor(v * inv_width_[static_cast<std::size_t>(d)]));
+    image = 0;
     if (k >= 0 && k < n) return static_cast<std::size_t>(k);  // a wrapped position: no integer division
-    k = box.periodic[static_cast<std::size_t>(d)] ? ((k % n) + n) % n : std::clamp(k, 0L, n - 1);
-    return static_cast<std::size_t>(k);
+    if (!box.periodic[static_cast<std::size_t>(d)]) return static_cast<std::size_t>(std::clamp(k, 0L, n - 1));
+    const long w = ((k % n) + n) % n;
+    image = (k - w) / n;
+    return static_cast<std::size_t>(w);
   }
-  std::size_t bin_of(const Box& box, Vec3 r) const {
-    return (bin_index(box, 2, r.z) * bins_[1] + bin_index(box, 1, r.y)) * bins_[0] + bin_index(box, 0, r.x);
+  Located locate(const Box& box, Vec3 r) const {
+    Located at;
+    const std::size_t i = bin_index(box, 0, r.x, at.image[0]), j = bin_index(box, 1, r.y, at.image[1]),
+                      k = bin_index(box, 2, r.z, at.image[2]);
+    at.bin = (k * bins_[1] + j) * bins_[0] + i;
+    return at;
   }
 
+  // The bins along one axis that an interval covers: `count` of them from bin `first` (wrapped as
+  // bin_index wraps a coordinate) at image `image` (whole box lengths), counting on with a wrap.
+  struct AxisRun {
+    long first = 0, count = 0, image = 0;
+  };
+  // Along axis d, for [lo, hi]; `exact` set where it spans a whole periodic axis. The bins are distinct,
+  // as the range is shorter than the axis or is the whole axis.
+  AxisRun axis_run(const Box& box, int d, double lo, double hi, bool& exact) const {
+    const auto u = static_cast<std::size_t>(d);
+    const auto floor_of = [](double v) {  // std::floor without the library call (|v| far below 2^63)
+      const auto k = static_cast<long>(v);
+      return static_cast<double>(k) > v ? k - 1 : k;
+    };
+    long from = floor_of(lo * inv_width_[u]), to = floor_of(hi * inv_width_[u]);
+    const auto n = static_cast<long>(bins_[u]);
+    if (to - from + 1 >= n) {
+      from = 0;
+      to = n - 1;
+      exact = exact || box.periodic[u];
+    }
+    if (!box.periodic[u]) {  // a bounded axis: its end bins take what lies beyond
+      from = std::clamp(from, 0L, n - 1);
+      to = std::clamp(to, 0L, n - 1);
+    }
+    AxisRun run{from, to - from + 1, 0};
+    if (from < 0 || from >= n) {  // a box beyond the first period: the one division
+      run.image = (from >= 0 ? from : from - n + 1) / n;
+      run.first = from - run.image * n;
+    }
+    return run;
+  }
+
+  // Lists each triangle in the bins (at least kBinWidth wide) that its box over this step's move (its
+  // corners at the start and the end of the step), widened by `reach`, covers, at their images: a
+  // counting sort in two passes over the same blocks of triangles per thread, the first finding the
+  // boxes and counting per bin and thread, the second writing each thread's triangles after those of the
+  // threads before it. So each bin lists its triangles in (cell, triangle) order, whatever the thread
+  // count: the order in which candidates are tried, and so the contact chosen between equal times.
   void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
-    for (int d = 0; d < 3; ++d)
-      bins_[static_cast<std::size_t>(d)] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
-    const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
     if (tri_offset_.empty()) {
       tri_offset_.push_back(0);
       for (std::uint32_t c = 0; c < cells_.size(); ++c) {
@@ -830,76 +907,94 @@ class MembraneBounceStage final : public Stage {
       }
       swept_.resize(tri_offset_.back());
     }
-    // Threads take contiguous blocks of triangles (static schedule) and keep their entries apart; joined in
-    // thread order they are in (cell, triangle) order, as a serial loop would make them.
-    const auto n_tri = static_cast<std::ptrdiff_t>(triangles_.size());
-    const int threads = omp_get_max_threads();
-    thread_entries_.resize(static_cast<std::size_t>(threads));
-#pragma omp parallel num_threads(threads)
+    for (int d = 0; d < 3; ++d) {
+      const auto u = static_cast<std::size_t>(d);
+      bins_[u] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
+      inv_width_[u] = static_cast<double>(bins_[u]) / box.length(d);
+    }
+    const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
+    const std::size_t n_tri = triangles_.size();
+    bin_start_.assign(n_bins + 1, 0);
+    // The pad covers the single-precision rounding of both sides' coordinates in bounce_particle's first
+    // test (within a few box lengths of the origin), so that test passes whatever near_box passes: a slot
+    // that is not `exact` lists the only image at which a path ending in its bin can meet its box, as the
+    // bins it covers span less than the axis and a path lies within the reach of its end.
+    const double pad = 1e-5 * (1.0 + std::max({box.len.x, box.len.y, box.len.z}));
+    const double len[3] = {box.len.x, box.len.y, box.len.z};
+#pragma omp parallel
     {
-      std::vector<Entry>& mine = thread_entries_[static_cast<std::size_t>(omp_get_thread_num())];
-      mine.clear();
-      std::array<std::vector<std::size_t>, 3> axis_bins;
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t g = 0; g < n_tri; ++g) {
-        const auto [c, t] = triangles_[static_cast<std::size_t>(g)];
-        if (!bounce_[c]) continue;
-        const std::array<std::uint32_t, 3> v = corners_of(c, t);
-        double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-        for (std::uint32_t k : v)
-          for (const Vec3& q : {x1[k], x1[k] - dt * h[k]}) {
-            const double c3[3] = {q.x, q.y, q.z};
-            for (int d = 0; d < 3; ++d) {
-              lo[d] = std::min(lo[d], c3[d]);
-              hi[d] = std::max(hi[d], c3[d]);
+      // The team as it is (it may be smaller than asked for): the blocks and counts follow it.
+      const auto threads = static_cast<std::size_t>(omp_get_num_threads());
+      const auto me = static_cast<std::size_t>(omp_get_thread_num());
+#pragma omp single
+      counts_.assign(threads * n_bins, 0);
+      const std::size_t g0 = n_tri * me / threads, g1 = n_tri * (me + 1) / threads;
+      std::size_t* count = counts_.data() + me * n_bins;
+      // Visits the bins of triangle g with their images.
+      const auto each_bin = [&](std::size_t g, auto&& visit) {
+        const Box3& tb = swept_[g];
+        bool exact = false;
+        const AxisRun rx = axis_run(box, 0, tb.lo.x - reach, tb.hi.x + reach, exact);
+        const AxisRun ry = axis_run(box, 1, tb.lo.y - reach, tb.hi.y + reach, exact);
+        const AxisRun rz = axis_run(box, 2, tb.lo.z - reach, tb.hi.z + reach, exact);
+        const auto nx = static_cast<long>(bins_[0]), ny = static_cast<long>(bins_[1]), nz = static_cast<long>(bins_[2]);
+        long k = rz.first, ik = rz.image;
+        for (long a = 0; a < rz.count; ++a) {
+          long j = ry.first, ij = ry.image;
+          for (long b = 0; b < ry.count; ++b) {
+            const auto row = static_cast<std::size_t>((k * ny + j) * nx);
+            long i = rx.first, ii = rx.image;
+            for (long c = 0; c < rx.count; ++c) {
+              visit(row + static_cast<std::size_t>(i), std::array<long, 3>{ii, ij, ik}, exact);
+              if (++i == nx) i = 0, ++ii;
             }
+            if (++j == ny) j = 0, ++ij;
           }
-        swept_[static_cast<std::size_t>(g)] = {{lo[0] - 1e-9, lo[1] - 1e-9, lo[2] - 1e-9}, {hi[0] + 1e-9, hi[1] + 1e-9, hi[2] + 1e-9}};
-        for (int d = 0; d < 3; ++d) {
-          lo[d] -= reach;
-          hi[d] += reach;
+          if (++k == nz) k = 0, ++ik;
         }
-        for (int d = 0; d < 3; ++d) {
-          const double w = box.length(d) / static_cast<double>(bins_[static_cast<std::size_t>(d)]);
-          long from = static_cast<long>(std::floor(lo[d] / w)), to = static_cast<long>(std::floor(hi[d] / w));
-          const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
-          if (to - from + 1 >= n) {
-            from = 0;
-            to = n - 1;
+      };
+      for (std::size_t g = g0; g < g1; ++g) {
+        const auto [c, t] = triangles_[g];
+        if (!bounce_[c]) continue;
+        Box3 b{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
+        for (std::uint32_t k : corners_of(c, t))
+          for (const Vec3& q : {x1[k], x1[k] - dt * h[k]}) {
+            b.lo = {std::min(b.lo.x, q.x), std::min(b.lo.y, q.y), std::min(b.lo.z, q.z)};
+            b.hi = {std::max(b.hi.x, q.x), std::max(b.hi.y, q.y), std::max(b.hi.z, q.z)};
           }
-          if (!box.periodic[static_cast<std::size_t>(d)]) {  // a bounded axis: its end bins take what lies beyond
-            from = std::clamp(from, 0L, n - 1);
-            to = std::clamp(to, 0L, n - 1);
+        swept_[g] = {b.lo - Vec3{1e-9, 1e-9, 1e-9}, b.hi + Vec3{1e-9, 1e-9, 1e-9}};
+        each_bin(g, [&](std::size_t bin, const std::array<long, 3>&, bool) { ++count[bin]; });
+      }
+#pragma omp barrier
+#pragma omp single
+      {
+        // Each bin's slots: thread 0's, then thread 1's, ...; counts_ becomes each thread's next place.
+        std::size_t next = 0;
+        for (std::size_t bin = 0; bin < n_bins; ++bin) {
+          bin_start_[bin] = next;
+          for (std::size_t th = 0; th < threads; ++th) {
+            const std::size_t here = counts_[th * n_bins + bin];
+            counts_[th * n_bins + bin] = next;
+            next += here;
           }
-          // The bins along this axis, wrapped as bin_index wraps their centres: distinct, as the range is
-          // shorter than the axis or is the whole axis.
-          axis_bins[static_cast<std::size_t>(d)].clear();
-          for (long q = from; q <= to; ++q) axis_bins[static_cast<std::size_t>(d)].push_back(static_cast<std::size_t>(((q % n) + n) % n));
         }
-        for (const std::size_t k : axis_bins[2])
-          for (const std::size_t j : axis_bins[1]) {
-            const std::size_t row = (k * bins_[1] + j) * bins_[0];
-            for (const std::size_t i : axis_bins[0]) mine.push_back({row + i, c, t});
+        bin_start_[n_bins] = next;
+        slot_boxes_.resize(next);
+      }
+      for (std::size_t g = g0; g < g1; ++g) {
+        if (!bounce_[triangles_[g].first]) continue;
+        const Box3& tb = swept_[g];
+        const double lo[3] = {tb.lo.x, tb.lo.y, tb.lo.z}, hi[3] = {tb.hi.x, tb.hi.y, tb.hi.z};
+        each_bin(g, [&](std::size_t bin, const std::array<long, 3>& image, bool exact) {
+          SlotBox& sb = slot_boxes_[count[bin]++];
+          for (std::size_t d = 0; d < 3; ++d) {
+            sb.c[d] = static_cast<float>(0.5 * (lo[d] + hi[d]) - static_cast<double>(image[d]) * len[d]);
+            sb.h[d] = exact ? std::numeric_limits<float>::infinity() : static_cast<float>(0.5 * (hi[d] - lo[d]) + pad);
           }
+          sb.triangle = static_cast<std::uint32_t>(g);
+        });
       }
     }
-    entries_.clear();
-    for (const std::vector<Entry>& part : thread_entries_) entries_.insert(entries_.end(), part.begin(), part.end());
-    // A counting sort by bin, stable, so each bin lists its triangles in (cell, triangle) order: the
-    // order in which candidates are tried, and so the contact chosen between equal times, never depends
-    // on the thread or rank count. A triangle enters a bin at most once (distinct indices per axis).
-    bin_start_.assign(n_bins + 1, 0);
-    for (const Entry& e : entries_) ++bin_start_[e.bin + 1];
-    for (std::size_t b = 0; b < n_bins; ++b) bin_start_[b + 1] += bin_start_[b];
-    cursor_.assign(bin_start_.begin(), bin_start_.end() - 1);
-    binned_.resize(entries_.size());
-    for (const Entry& e : entries_) binned_[cursor_[e.bin]++] = {e.cell, e.triangle};
-  }
-
-  // The triangles whose swept boxes (widened by the reach) cover the bin of the point r (wrapped or not).
-  std::span<const std::pair<std::uint32_t, std::uint32_t>> candidates_near(const Box& box, Vec3 r) const {
-    const std::size_t bin = bin_of(box, r);
-    return {binned_.data() + bin_start_[bin], binned_.data() + bin_start_[bin + 1]};
   }
 
   // Puts particle i at the end of its bounced path (in the frame of the last triangle met: shift) with
@@ -971,11 +1066,11 @@ class MembraneBounceStage final : public Stage {
   VertexGather gather_;
   std::vector<Vec3> momentum_;
   std::array<std::size_t, 3> bins_{1, 1, 1};
+  std::array<double, 3> inv_width_{1, 1, 1};  // bins per unit length along each axis
   std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles_;  // (cell, triangle) of every triangle, in order
-  std::vector<std::vector<Entry>> thread_entries_;              // scratch of bin_triangles, per thread
-  std::vector<Entry> entries_;                                  // (bin, cell, triangle) in triangle order
-  std::vector<std::size_t> bin_start_, cursor_;                 // bin b's triangles: binned_[bin_start_[b] .. b + 1)
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> binned_;  // (cell, triangle) by bin
+  std::vector<std::size_t> counts_;     // bin_triangles' count per thread and bin (thread-major)
+  std::vector<std::size_t> bin_start_;  // bin b's triangles: slot_boxes_[bin_start_[b] .. bin_start_[b + 1])
+  std::vector<SlotBox> slot_boxes_;     // the triangles by bin, with their boxes of this step
   std::vector<std::size_t> tri_offset_;  // the first triangle of each cell in swept_
   std::vector<Box3> swept_;              // each triangle's box over this step's move
   std::uint64_t bounces_ = 0, unresolved_ = 0;
