@@ -168,9 +168,9 @@ def sdpd(mass_density, viscosity, temperature, spacing, sound_speed=None, flow_s
     u.pair = {"kernel": kernel, "rc": rc, "eta": eta, "zeta": u.from_si(bulk_viscosity, "viscosity"), "c": c,
               "rho0": 1.0, "eos_exponent": float(eos_exponent)}
     u.neighbours = float(neighbours)
-    # The limits the engine checks (physics/sdpd_pair.hpp): sound 0.25 rc / c, viscous 0.125 rc^2 rho0 / eta.
+    # The limits the engine checks (physics/sdpd_pair.hpp): sound 0.25 rc / c, viscous 0.05 rc^2 rho0 / eta.
     u.cfl_limit = 0.25 * rc / c
-    u.viscous_limit = 0.125 * rc * rc / eta
+    u.viscous_limit = 0.05 * rc * rc / eta
     u.dt = 0.5 * min(u.cfl_limit, u.viscous_limit)
     u.mach = None if flow_speed is None else flow_speed / sound_speed
     return u

@@ -147,7 +147,7 @@ def test_sdpd_water_at_half_a_micron_by_hand(tmp_path):
     assert s.to_si(s.from_si(3e-3, "velocity"), "velocity") == pytest.approx(3e-3, rel=1e-12)
     assert 4 * math.pi / 3 * s.pair["rc"] ** 3 == pytest.approx(100, rel=1e-12)
     assert s.pair["kernel"] == "lucy"
-    assert s.dt == pytest.approx(0.5 * min(0.25 * s.pair["rc"] / s.pair["c"], 0.125 * s.pair["rc"] ** 2 / s.pair["eta"]))
+    assert s.dt == pytest.approx(0.5 * min(0.25 * s.pair["rc"] / s.pair["c"], 0.05 * s.pair["rc"] ** 2 / s.pair["eta"]))
     import mesodpd
     text = s.toml().replace("[system]\n", "[system]\nbox = [8.0, 8.0, 8.0]\n")
     with mesodpd.Simulation.from_string(text, out=str(tmp_path / "o"), steps=2) as sim:

@@ -34,7 +34,7 @@ std::string sdpd_numbers(const SimulationSpec& spec) {
   std::string out = fmt::format("smoothed DPD (species pair {0}-{0}):\n", spec.species.front().name);
   out += fmt::format("  kernel {} over rc = {}, {:.1f} neighbours (n 4 pi rc^3 / 3), spacing n^(-1/3) = {:.4g}\n", kernel,
                      v.rc, SdpdLaw::neighbours(v), std::cbrt(1.0 / n));
-  out += fmt::format("  dt = {} against the sound limit 0.25 rc / c = {:.4g} and the viscous limit 0.125 rc^2 / nu = {:.4g}\n",
+  out += fmt::format("  dt = {} against the sound limit 0.25 rc / c = {:.4g} and the viscous limit 0.05 rc^2 / nu = {:.4g}\n",
                      spec.dt, SdpdLaw::cfl_limit(v), SdpdLaw::viscous_limit(v));
   out += fmt::format("  kinematic viscosity nu = {:.4g}, sound speed c = {}, thermal speed sqrt(kT/m) = {:.4g}\n", nu, c,
                      std::sqrt(spec.kT / spec.species.front().mass));

@@ -395,7 +395,7 @@ TEST(Sdpd, BadInputNamesTheKey) {
   // The Wendland kernel and Tait's law are accepted.
   refused(with("rc = 1.5\n", "rc = 0.5\n"), "pair.rc");              // below the spacing 3^(-1/3)
   refused(with("dt = 0.01\n", "dt = 0.05\n"), "pair.c");             // the sound limit 0.25 h / c
-  refused(with("eta = 1.000000\n", "eta = 200.0\n"), "pair.eta");     // the viscous limit 0.125 h^2 rho0 / eta
+  refused(with("eta = 1.000000\n", "eta = 200.0\n"), "pair.eta");     // the viscous limit 0.05 h^2 rho0 / eta
   // The Wendland kernel and Tait's law are accepted; few neighbours are a warning, not an error.
   EXPECT_NO_THROW(parse_config(with("kernel = \"lucy\"", "kernel = \"wendland\"\neos_exponent = 7"), "ok.toml"));
   const SimulationSpec few = parse_config(with("rc = 1.5\n", "rc = 1.0\n"), "few.toml");
