@@ -644,7 +644,11 @@ class MembraneBounceStage final : public Stage {
   MembraneBounceStage(const std::vector<Cell>& cells, std::vector<char> bounce, Movers movers, std::uint32_t first,
                       std::uint32_t count)
       : cells_(cells), bounce_(std::move(bounce)), movers_(std::move(movers)),
-        gather_(first, count, VertexGather::Velocities::HalfStep), momentum_(count) {}
+        gather_(first, count, VertexGather::Velocities::HalfStep), momentum_(count) {
+    for (std::uint32_t c = 0; c < cells_.size(); ++c)
+      for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) triangles_.push_back({c, t});
+    swept_.resize(triangles_.size());
+  }
 
   void run(StepContext& ctx) override {
     const std::vector<Vec3>& x1 = gather_.gather(ctx);
@@ -844,13 +848,25 @@ class MembraneBounceStage final : public Stage {
   // what lies beyond).
   std::size_t bin_index(const Box& box, int d, double v, long& image) const {
     const auto n = static_cast<long>(bins_[static_cast<std::size_t>(d)]);
-    const long k = static_cast<long>(std::floor(v * inv_width_[static_cast<std::size_t>(d)]));
+    const long k = floor_of(v * inv_width_[static_cast<std::size_t>(d)]);
+    if (!box.periodic[static_cast<std::size_t>(d)]) {
+      image = 0;
+      return static_cast<std::size_t>(std::clamp(k, 0L, n - 1));
+    }
+    return static_cast<std::size_t>(wrap(k, n, image));
+  }
+  // std::floor without the library call (|v| far below 2^63).
+  static long floor_of(double v) {
+    const auto k = static_cast<long>(v);
+    return static_cast<double>(k) > v ? k - 1 : k;
+  }
+  // Bin k of an axis of n wrapped into [0, n), and the whole periods taken off it: a division only off
+  // the first period.
+  static long wrap(long k, long n, long& image) {
     image = 0;
-    if (k >= 0 && k < n) return static_cast<std::size_t>(k);  // a wrapped position: no integer division
-    if (!box.periodic[static_cast<std::size_t>(d)]) return static_cast<std::size_t>(std::clamp(k, 0L, n - 1));
-    const long w = ((k % n) + n) % n;
-    image = (k - w) / n;
-    return static_cast<std::size_t>(w);
+    if (k >= 0 && k < n) return k;
+    image = (k >= 0 ? k : k - n + 1) / n;
+    return k - image * n;
   }
   Located locate(const Box& box, Vec3 r) const {
     Located at;
@@ -869,10 +885,6 @@ class MembraneBounceStage final : public Stage {
   // as the range is shorter than the axis or is the whole axis.
   AxisRun axis_run(const Box& box, int d, double lo, double hi, bool& exact) const {
     const auto u = static_cast<std::size_t>(d);
-    const auto floor_of = [](double v) {  // std::floor without the library call (|v| far below 2^63)
-      const auto k = static_cast<long>(v);
-      return static_cast<double>(k) > v ? k - 1 : k;
-    };
     long from = floor_of(lo * inv_width_[u]), to = floor_of(hi * inv_width_[u]);
     const auto n = static_cast<long>(bins_[u]);
     if (to - from + 1 >= n) {
@@ -884,11 +896,8 @@ class MembraneBounceStage final : public Stage {
       from = std::clamp(from, 0L, n - 1);
       to = std::clamp(to, 0L, n - 1);
     }
-    AxisRun run{from, to - from + 1, 0};
-    if (from < 0 || from >= n) {  // a box beyond the first period: the one division
-      run.image = (from >= 0 ? from : from - n + 1) / n;
-      run.first = from - run.image * n;
-    }
+    AxisRun run{0, to - from + 1, 0};
+    run.first = wrap(from, n, run.image);
     return run;
   }
 
@@ -899,14 +908,6 @@ class MembraneBounceStage final : public Stage {
   // threads before it. So each bin lists its triangles in (cell, triangle) order, whatever the thread
   // count: the order in which candidates are tried, and so the contact chosen between equal times.
   void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
-    if (tri_offset_.empty()) {
-      tri_offset_.push_back(0);
-      for (std::uint32_t c = 0; c < cells_.size(); ++c) {
-        tri_offset_.push_back(tri_offset_.back() + cells_[c].model.mesh().triangles.size());
-        for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) triangles_.push_back({c, t});
-      }
-      swept_.resize(tri_offset_.back());
-    }
     for (int d = 0; d < 3; ++d) {
       const auto u = static_cast<std::size_t>(d);
       bins_[u] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
@@ -914,7 +915,7 @@ class MembraneBounceStage final : public Stage {
     }
     const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
     const std::size_t n_tri = triangles_.size();
-    bin_start_.assign(n_bins + 1, 0);
+    bin_start_.resize(n_bins + 1);
     // The pad covers the single-precision rounding of both sides' coordinates in bounce_particle's first
     // test (within a few box lengths of the origin), so that test passes whatever near_box passes: a slot
     // that is not `exact` lists the only image at which a path ending in its bin can meet its box, as the
@@ -1071,7 +1072,6 @@ class MembraneBounceStage final : public Stage {
   std::vector<std::size_t> counts_;     // bin_triangles' count per thread and bin (thread-major)
   std::vector<std::size_t> bin_start_;  // bin b's triangles: slot_boxes_[bin_start_[b] .. bin_start_[b + 1])
   std::vector<SlotBox> slot_boxes_;     // the triangles by bin, with their boxes of this step
-  std::vector<std::size_t> tri_offset_;  // the first triangle of each cell in swept_
   std::vector<Box3> swept_;              // each triangle's box over this step's move
   std::uint64_t bounces_ = 0, unresolved_ = 0;
 };

@@ -162,7 +162,7 @@ struct SdpdLaw {
   // crossing of a quarter kernel, dt <= 0.25 h / c, and viscous diffusion, dt <= C h^2 / nu with
   // nu = eta / rho_0. Morris's C = 0.125 is for a smoothing length of half our cutoff h; measured here
   // (docs/validation.md §12, kT = 0.0178, c = 4, n = 3, h = 1.5), a Wendland fluid keeps its temperature
-  // up to C = 0.058 and heats (k_BT x 2-3) from C = 0.067, Lucy's holds at 0.067 and blows up at 0.089:
+  // up to C = 0.058 and heats (k_BT x 1.7-4) from C = 0.067, Lucy's holds at 0.067 and blows up at 0.089:
   // C = 0.05. `mesodpd check` prints both.
   static double cfl_limit(const PairValues& v) { return 0.25 * v.rc / v.own[2]; }
   static double viscous_limit(const PairValues& v) {
