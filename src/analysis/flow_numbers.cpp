@@ -97,6 +97,9 @@ FlowNumbers flow_numbers(const SimulationSpec& s) {
   }
 
   // Thermostat: friction rate gamma rho Int w_D d^3r / m, Int w_D = 4 pi r_d^3 2 / ((s+1)(s+2)(s+3)).
+  // A pair law without friction (a [thermostat] sweep supplies it, or a Hamiltonian run) has no bound
+  // here: n/a rather than a limit of infinity.
+  if (gamma_mean == 0.0) return f;
   const double w_integral =
       4 * std::numbers::pi * rd_mean * rd_mean * rd_mean * 2 / ((s_mean + 1) * (s_mean + 2) * (s_mean + 3));
   f.friction_rate = gamma_mean * f.density * w_integral / m_mean;

@@ -60,6 +60,10 @@ inline KineticViscosity kinetic_viscosity_of(const SimulationSpec& spec, double 
         return out;
       }
     }
+  if (first.gamma == 0.0) {  // a conservative pair law (e.g. under [thermostat]): the formulas diverge
+    out.why_not = "pair.gamma = 0 (no pair friction)";
+    return out;
+  }
   out.applies = true;
   out.gamma = first.gamma;
   out.rd = first.rd;
