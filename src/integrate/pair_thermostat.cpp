@@ -35,6 +35,45 @@ double peters_update(double u, double mu, double gamma_wd_dt, double kT, const s
   return (1.0 - a) * u + std::sqrt(a * (2.0 - a) * kT / mu) * gaussian_unit(bits[0], bits[1]);
 }
 
+double stoyanov_groot_update(double u, double mu, double rate_dt, double feedback, double kT,
+                             const std::uint32_t bits[4]) {
+  // Stoyanov & Groot 2005 (seed 002 ref. 26): each pair is thermostatted either by Lowe-Andersen (with
+  // probability Gamma dt, the same draw as lowe_andersen_update) or else by a pairwise Nose-Hoover
+  // force alpha w_D (kT / T_kin - 1) u e on i (its opposite on j), applied as one impulse over dt.
+  if (u01_open(bits[0]) < rate_dt) return std::sqrt(kT / mu) * gaussian_unit(bits[1], bits[2]);
+  return u * (1.0 + feedback / mu);
+}
+
+double stoyanov_groot_feedback(double kT, double t_kin) {
+  return t_kin > 0.0 ? std::min(1.0, kT / t_kin - 1.0) : 1.0;
+}
+
+double PairThermostat::kinetic_temperature(const ParticleData& p, const Box& box,
+                                           const std::vector<double>& species_mass) const {
+  // Two passes (mean, then spread) in the sweep order (bin() first), which depends on the positions and
+  // ids alone: the same bits on any thread count, storage order and after a restart.
+  const int skip = box.sheared() ? box.shear.flow : -1;
+  double mass = 0, mom[3] = {0, 0, 0};
+  for (const std::uint32_t i : order_) {
+    const double m = species_mass[static_cast<std::size_t>(p.species[i])];
+    mass += m;
+    mom[0] += m * p.vx[i];
+    mom[1] += m * p.vy[i];
+    mom[2] += m * p.vz[i];
+  }
+  if (p.n_local < 2 || mass <= 0.0) return 0.0;
+  const double v0[3] = {mom[0] / mass, mom[1] / mass, mom[2] / mass};
+  double twice_ke = 0;
+  for (const std::uint32_t i : order_) {
+    const double m = species_mass[static_cast<std::size_t>(p.species[i])];
+    const double v[3] = {p.vx[i] - v0[0], p.vy[i] - v0[1], p.vz[i] - v0[2]};
+    for (int d = 0; d < 3; ++d)
+      if (d != skip) twice_ke += m * v[d] * v[d];
+  }
+  const double dof = (3.0 * static_cast<double>(p.n_local) - 3.0) * (skip >= 0 ? 2.0 / 3.0 : 1.0);
+  return twice_ke / dof;
+}
+
 void PairThermostat::bin(const ParticleData& p, const Box& box) {
   const std::size_t n = p.n_local;
   for (int d = 0; d < 3; ++d)
@@ -97,6 +136,9 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
   for (std::size_t k = 0; k < whole_row.size(); ++k) whole_row[k] = static_cast<int>(k);
   std::uint64_t pairs = 0;
   std::array<double, 6> virial{};
+  const bool sg = params_.kind == PairThermostatKind::StoyanovGroot;
+  last_temperature_ = sg ? kinetic_temperature(p, box, species_mass) : 0.0;
+  const double sg_factor = sg ? params_.alpha * dt * stoyanov_groot_feedback(kT, last_temperature_) : 0.0;
   for (std::size_t k = 0; k < p.n_local; ++k) {
     const std::uint32_t i = order_[k];
     const int c = static_cast<int>(cell_of_[i]);
@@ -153,7 +195,8 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
       } else {
         const double om = 1.0 - r / rc;
         const double wd = params_.s == 2.0 ? om * om : std::pow(om, params_.s);
-        u_new = params_.kind == PairThermostatKind::Shardlow
+        u_new = sg ? stoyanov_groot_update(u, mu, params_.rate * dt, sg_factor * wd, kT, bits.v)
+                : params_.kind == PairThermostatKind::Shardlow
                     ? shardlow_update(u, mu, params_.gamma * wd * dt, kT, bits.v)
                     : peters_update(u, mu, params_.gamma * wd * dt, kT, bits.v);
       }

@@ -13,10 +13,11 @@ namespace mesodpd {
 
 struct ThermostatSpec {
   PairThermostatKind type = PairThermostatKind::LoweAndersen;
-  std::optional<double> rate;   // Gamma: Lowe-Andersen only, required there
+  std::optional<double> rate;   // Gamma: Lowe-Andersen and Stoyanov-Groot only, required there
   std::optional<double> gamma;  // friction: Shardlow and Peters only, required there
+  std::optional<double> alpha;  // Nose-Hoover coupling: Stoyanov-Groot only, required there
   double rc = 1.0;
-  std::optional<double> s;  // weight exponent: Shardlow and Peters only (default 2)
+  std::optional<double> s;  // weight exponent: Shardlow, Peters, Stoyanov-Groot (default 2)
 
   double exponent() const { return s.value_or(2.0); }
 };
