@@ -442,11 +442,7 @@ void TransportStage::observe(const StepContext& ctx) {
   if (!ctx.pair_sums) throw std::logic_error("TransportStage: the pressure is due but no pair sums were computed");
   // Kinetic and pair parts of the pressure tensor, and the temperature (collective).
   const ThermoState t = compute_thermo(ctx.particles, ctx.species_mass, ctx.box, *ctx.pair_sums, -1, ctx.comm);
-  std::array<double, 6> pressure = t.p_tensor;
-  if (extra_virial_)
-    if (const std::array<double, 6>* v = extra_virial_())
-      for (std::size_t c = 0; c < 6; ++c) pressure[c] += (*v)[c] / ctx.box.volume();
-  if (a_) a_->add_pressure(pressure);
+  if (a_) a_->add_pressure(t.p_tensor);
   if (ctx.step < first_ || ctx.step % spec_.every != 0) return;
   const ParticleData& all = snapshot_.of(ctx);  // collective
   if (!a_) return;

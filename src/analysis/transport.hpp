@@ -4,7 +4,6 @@
 // and by Einstein, the Green-Kubo shear viscosity and the Schmidt number, each with a block error bar.
 #pragma once
 #include <array>
-#include <functional>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -141,14 +140,9 @@ class TransportStage final : public RootAnalysisStage<TransportCorrelations> {
   void observe(const StepContext& ctx) override;
   std::string finish(const StepContext& ctx) override;
   std::uint64_t first_sample_step() const { return first_; }
-  // A virial the pair sums do not hold, added to the pressure tensor at every step where it is given
-  // (xx yy zz xy xz yz, like PairSums::virial): the pairwise thermostat's impulses, whose momentum
-  // transfer is part of the stress (engine/install_analyses.cpp sets it).
-  void set_extra_virial(std::function<const std::array<double, 6>*()> f) { extra_virial_ = std::move(f); }
 
  private:
   TransportSpec spec_;
-  std::function<const std::array<double, 6>*()> extra_virial_;
   const SimulationSpec& sim_;      // for the kinetic-theory values of the summary
   SystemSnapshot& snapshot_;
   std::uint64_t first_;            // the first sampled step: a multiple of every, >= start and >= every

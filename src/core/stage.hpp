@@ -35,7 +35,11 @@ struct StepContext {
   std::uint64_t step = 0;                  // the step being completed (already incremented)
   double dt = 0.0;
   const std::vector<double>& species_mass;  // by species index
-  const PairSums* pair_sums = nullptr;     // this step's pair sums where a stage asked for them, else null
+  // This step's pair sums where a stage asked for them, else null. Forces stages and AfterSecondHalf
+  // stages whose forces or impulses act between particles outside the pair loop (membranes, pairwise
+  // thermostats) add their virial here, so every reader of the stress (thermo, Lees-Edwards,
+  // Green-Kubo) sees the whole of it; readers run at EndOfStep.
+  PairSums* pair_sums = nullptr;
   std::uint64_t total_particles = 0;       // over all ranks
   std::uint64_t neighbor_builds = 0;       // since step 0, across restarts
   const Topology* topology = nullptr;      // bonds and angles by global id (empty without molecules)

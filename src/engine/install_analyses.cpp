@@ -23,7 +23,6 @@
 #include "engine/installer.hpp"
 #include "engine/reference_pair_loop.hpp"
 #include "engine/simulation.hpp"
-#include "integrate/pair_thermostat.hpp"
 #include "io/progress.hpp"
 #include "io/state_checkpoint.hpp"
 
@@ -122,14 +121,8 @@ void install_transport(Installation& in) {
   check_transport(*t, in.spec);  // again, for specs built in code
   // Not in the observers' index (that would be a shared file for one analysis): the API and tests find
   // the stage as a component.
-  TransportStage& stage = in.components.share(add_analysis(
+  in.components.share(add_analysis(
       in, std::make_unique<TransportStage>(*t, in.spec, output(in), snapshot(in), in.sim.halo().comm()), "transport"));
-  // The pairwise thermostat ([thermostat], installed before the analyses) carries momentum between pairs.
-  const Components& components = in.components;
-  stage.set_extra_virial([&components]() -> const std::array<double, 6>* {
-    const PairThermostat* sweep = components.find<PairThermostat>();
-    return sweep ? &sweep->last_virial() : nullptr;
-  });
 }
 
 void install_droplet(Installation& in) {

@@ -31,7 +31,6 @@
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
-#include "integrate/pair_thermostat.hpp"
 #include "integrate/thermostat_keys.hpp"
 #include "io/atomic_file.hpp"
 #include "mesodpd/key_table.hpp"
@@ -178,8 +177,9 @@ struct StressSample {
   double total() const { return kinetic + pairs; }
 };
 
-// `thermostat`: the virial of the step's pairwise-thermostat sweep (PairThermostat::last_virial), or null.
-StressSample measure_stress(const StepContext& ctx, int f, int g, const std::array<double, 6>* thermostat) {
+// The pair sums' virial holds every force between particles, the pairwise thermostat's impulses and the
+// membranes' forces included (core/stage.hpp).
+StressSample measure_stress(const StepContext& ctx, int f, int g) {
   const ParticleData& p = ctx.particles;
   const Box& box = ctx.box;
   const int w = 3 - f - g;
@@ -217,8 +217,6 @@ StressSample measure_stress(const StepContext& ctx, int f, int g, const std::arr
   const double vol = box.volume();
   std::array<double, 6> vir{};
   if (ctx.pair_sums) vir = ctx.pair_sums->virial;
-  if (thermostat)
-    for (std::size_t c = 0; c < 6; ++c) vir[c] += (*thermostat)[c];
   auto diag = [&](int a) { return vir[static_cast<std::size_t>(a)]; };
   StressSample s;
   s.kinetic = -kin[0] / vol;
@@ -230,13 +228,6 @@ StressSample measure_stress(const StepContext& ctx, int f, int g, const std::arr
   return s;
 }
 
-// The virial of the step's pairwise-thermostat sweep ([thermostat]), whose impulses carry momentum
-// between pairs: part of the stress (all of the friction's share) where a thermostat is installed.
-const std::array<double, 6>* thermostat_virial(const Components& components) {
-  const PairThermostat* t = components.find<PairThermostat>();
-  return t ? &t->last_virial() : nullptr;
-}
-
 // Mean and block standard error of column c of the rows (sums over samples).
 struct MeanError {
   double mean = 0, error = 0;
@@ -246,13 +237,12 @@ class ShearStress final : public Stage {
  public:
   // kinetic, pairs, then each times sin and times cos, then N1 and N2
   static constexpr std::size_t kWidth = 8;
-  ShearStress(const LeesEdwardsSpec& s, const Components& components)
-      : spec_(s), components_(components), blocks_(kWidth, static_cast<std::size_t>(s.blocks)) {}
+  explicit ShearStress(const LeesEdwardsSpec& s) : spec_(s), blocks_(kWidth, static_cast<std::size_t>(s.blocks)) {}
 
   bool wants_pair_sums(std::uint64_t step) const override { return step % spec_.stress_every == 0; }
   void run(StepContext& ctx) override {
     if (ctx.step % spec_.stress_every != 0 || ctx.step <= spec_.equilibrate) return;
-    const StressSample s = measure_stress(ctx, spec_.flow, spec_.gradient, thermostat_virial(components_));
+    const StressSample s = measure_stress(ctx, spec_.flow, spec_.gradient);
     const double t = static_cast<double>(ctx.step) * ctx.dt;
     const double w = spec_.oscillatory() ? *spec_.omega : 0.0;
     const double sn = std::sin(w * t), cs = std::cos(w * t);
@@ -312,7 +302,6 @@ class ShearStress final : public Stage {
 
  private:
   LeesEdwardsSpec spec_;
-  const Components& components_;  // the pairwise thermostat, installed after this model, is found there
   BlockRows blocks_;
   std::array<double, kWidth> total_{};
   std::uint64_t samples_ = 0;
@@ -384,14 +373,11 @@ void install_lees_edwards(Installation& in) {
   if (s->oscillatory())
     in.stages.add(StagePoint::Forces,
                   std::make_unique<HomogeneousShearForce>(s->flow, s->gradient, *s->strain_amplitude, *s->omega));
-  auto& stress = in.stages.add(StagePoint::EndOfStep, std::make_unique<ShearStress>(*s, in.components));
+  auto& stress = in.stages.add(StagePoint::EndOfStep, std::make_unique<ShearStress>(*s));
   in.sections.push_back({"lees_edwards", [&stress](ByteWriter& w) { stress.save(w); },
                          [&stress](ByteReader& r, const std::string& context) { stress.load(r, context); }});
   const int f = s->flow, g = s->gradient;
-  const Components& components = in.components;
-  in.thermo_columns.push_back({"shear_stress", [f, g, &components](const StepContext& ctx) {
-                                 return measure_stress(ctx, f, g, thermostat_virial(components)).total();
-                               }});
+  in.thermo_columns.push_back({"shear_stress", [f, g](const StepContext& ctx) { return measure_stress(ctx, f, g).total(); }});
   in.thermo_columns.push_back({"shear_offset", [](const StepContext& ctx) { return ctx.box.shear.offset; }});
   const std::filesystem::path out = in.options.out_dir;
   in.summaries.push_back([&stress, out](const StepContext& ctx) -> std::string {

@@ -119,6 +119,10 @@ void install_thermostat(Installation& in) {
                     sweep_on_root(*sweep, *all, ctx);
                   else
                     sweep->sweep(ctx.particles, ctx.box, ctx.species_mass, ctx.step, ctx.dt);
+                  // The impulses carry momentum between pairs: part of the stress (all of the friction's
+                  // share), read by thermo, Lees-Edwards and Green-Kubo at EndOfStep.
+                  if (ctx.pair_sums)
+                    for (std::size_t c = 0; c < 6; ++c) ctx.pair_sums->virial[c] += sweep->last_virial()[c];
                 }));
 }
 
