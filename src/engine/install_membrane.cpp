@@ -502,6 +502,7 @@ class MembraneForcesStage final : public Stage {
     const auto n_cells = static_cast<std::ptrdiff_t>(cells_.size());
     energies_.assign(cells_.size(), 0.0);
     broken_.assign(cells_.size(), kIntact);
+    virials_.assign(cells_.size(), CellVirial{});
 #pragma omp parallel
     {
       std::vector<Vec3> x, v, f;
@@ -518,10 +519,14 @@ class MembraneForcesStage final : public Stage {
           continue;
         }
         energies_[static_cast<std::size_t>(c)] = e->total();
+        CellVirial& w = virials_[static_cast<std::size_t>(c)];
+        w.total = membrane::virial(x, f);
+        w.elastic_trace = w.total[0] + w.total[1] + w.total[2];
         if (cell.model.viscous()) {
           const std::vector<Vec3>& vel = gather_.velocities();
           v.assign(vel.begin() + static_cast<std::ptrdiff_t>(off), vel.begin() + static_cast<std::ptrdiff_t>(off + nv));
           cell.model.viscous_forces(x, v, ctx.dt, seed_, ctx.step, cell.first, f);
+          w.total = membrane::virial(x, f);
         }
         const double share = cell.ramp > ctx.step ? static_cast<double>(ctx.step) / static_cast<double>(cell.ramp) : 1.0;
         for (std::size_t i = 0; i < nv; ++i) forces_[off + i] = f[i] + share * cell.external[i];
@@ -543,6 +548,13 @@ class MembraneForcesStage final : public Stage {
       }
       energy_ += energies_[c];
     }
+    // The membranes' internal forces act between particles: their virial belongs to the stress (summed in
+    // cell order, the same on every rank, which all evaluate every cell). The tweezers are external.
+    if (ctx.pair_sums)
+      for (const CellVirial& w : virials_) {
+        for (std::size_t k = 0; k < 6; ++k) ctx.pair_sums->virial[k] += w.total[k];
+        ctx.pair_sums->virial_conservative += w.elastic_trace;
+      }
     ParticleData& p = ctx.particles;
     const std::uint32_t first = gather_.first(), end = first + static_cast<std::uint32_t>(all.size());
     for (std::size_t i = 0; i < p.n_local; ++i) {
@@ -562,6 +574,11 @@ class MembraneForcesStage final : public Stage {
   VertexGather gather_;
   std::uint64_t seed_;
   static constexpr std::size_t kIntact = ~std::size_t{0};
+  struct CellVirial {
+    std::array<double, 6> total{};  // elastic and viscous (membrane::virial)
+    double elastic_trace = 0;       // of the conservative (elastic) forces only
+  };
+  std::vector<CellVirial> virials_;  // per cell
   std::vector<Vec3> forces_;
   std::vector<double> energies_;     // per cell, summed in cell order
   std::vector<std::size_t> broken_;  // per cell: the hinge of a broken edge, or kIntact

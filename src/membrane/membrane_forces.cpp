@@ -48,6 +48,20 @@ double wlc_pow_dudl(double l, double lm, double kT, double p, double kp, double 
   return kT / p * (0.25 / ((1 - x) * (1 - x)) - 0.25 + x) - kp / std::pow(l, m);
 }
 
+std::array<double, 6> virial(const std::vector<Vec3>& x, const std::vector<Vec3>& f) {
+  std::array<double, 6> w{};
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Vec3 d = x[i] - x[0];
+    w[0] += d.x * f[i].x;
+    w[1] += d.y * f[i].y;
+    w[2] += d.z * f[i].z;
+    w[3] += d.y * f[i].x;
+    w[4] += d.z * f[i].x;
+    w[5] += d.z * f[i].y;
+  }
+  return w;
+}
+
 double wlc_pow_energy(double l, double lm, double kT, double p, double kp, double m) {
   const double x = l / lm;
   const double wlc = kT * lm / (4 * p) * (3 * x * x - 2 * x * x * x) / (1 - x);

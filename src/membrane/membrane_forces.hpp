@@ -24,6 +24,7 @@
 // Forces are sums of gradients of lengths, dihedral angles, triangle areas and the enclosed volume, all
 // translation and rotation invariant, so the total force and torque are zero.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -100,6 +101,13 @@ class CellModel {
   std::vector<double> l0_, kp_, area0_t_;  // per hinge (edge), per triangle
   double area0_ = 0, volume0_ = 0, mean_l0_ = 0;
 };
+
+// The virial sum over vertices of (x_i - x_0) (x) f_i of forces f that add up to zero (a cell's internal
+// forces), in the order of PairSums::virial: xx, yy, zz, then ab = sum (x_b - x_0b) f_a for xy, xz, yz
+// (the flux of a-momentum through b-planes, as the pair loop's). The reference vertex x_0 keeps the
+// numbers small and does not change the result. For conservative forces W_ab = -dU/d eps_ab under the
+// homogeneous deformation x_a -> x_a + eps_ab x_b.
+std::array<double, 6> virial(const std::vector<Vec3>& x, const std::vector<Vec3>& f);
 
 // The force magnitude dU/dl of a WLC-POW edge (positive: pulls the ends together) and its energy.
 double wlc_pow_dudl(double l, double lm, double kT, double p, double kp, double m);
