@@ -127,6 +127,17 @@ void check_lees_edwards(const LeesEdwardsSpec& s, const SimulationSpec& spec) {
     throw SpecError("lees_edwards.shear_rate", "0", "must not be zero (an unsheared box is a plain periodic one)");
   if (spec.poiseuille.enabled)
     throw SpecError("poiseuille", "", "a reverse-Poiseuille flow and a Lees-Edwards shear cannot share the box");
+  // The equilibrium analyses unwrap positions with whole box lengths (a crossing of the sheared faces
+  // would jump by the image offset) and correlate velocities that carry the imposed flow: in a sheared
+  // box they would measure the shear, not the fluid's diffusion or Green-Kubo viscosity.
+  if (spec.msd.enabled)
+    throw SpecError("analysis.msd", "",
+                    "is not measured under Lees-Edwards shear (the unwrapped positions would jump by the image offset "
+                    "and the flow would dominate the displacement); measure diffusion in an unsheared run");
+  if (spec.models.count("analysis.transport"))
+    throw SpecError("analysis.transport", "",
+                    "is not measured under Lees-Edwards shear (the VACF and the MSD would follow the imposed flow, and "
+                    "Green-Kubo needs equilibrium); the sheared run's own viscosity is in shear_summary.csv");
   if (spec.bond_subcycles > 1)
     throw SpecError("bonds.subcycles", fmt::format("{}", spec.bond_subcycles),
                     "is not supported with Lees-Edwards shear (the inner steps would see the image offset of the "

@@ -522,6 +522,9 @@ TEST(LeesEdwards, BadInputIsRefusedNamingTheKey) {
   EXPECT_NE(error("shear_rate = 0.1", "", 3.5).find("system.box"), std::string::npos);  // 3 cells along x
   EXPECT_NE(error("shear_rate = 0.1", "[poiseuille]\nforce = 0.02\n").find("poiseuille"), std::string::npos);
   EXPECT_NE(error("shear_rate = 0.1", "[bonds]\nsubcycles = 2\n").find("bonds.subcycles"), std::string::npos);
+  // The equilibrium analyses would measure the imposed flow.
+  EXPECT_NE(error("shear_rate = 0.1", "[analysis.msd]\nevery = 10\n").find("analysis.msd"), std::string::npos);
+  EXPECT_NE(error("shear_rate = 0.1", "[analysis.transport]\n").find("analysis.transport"), std::string::npos);
   // Walls close the gradient axis z of a plate channel.
   const std::string channel =
       test::plate_channel_config("", "", "", "\n[lees_edwards]\ngradient = \"z\"\nshear_rate = 0.1\n");
