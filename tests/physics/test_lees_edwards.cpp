@@ -296,6 +296,17 @@ TEST(LeesEdwards, StandardFluidHasALinearProfileAndTheReversePoiseuilleViscosity
   EXPECT_GT(e1, 0.0);
 }
 
+// The ideal gas (a = 0, rho = 3) thermostatted by a [thermostat] sweep (pair.gamma = 0) and sheared by
+// [lees_edwards]: the config text.
+std::string sheared_ideal_gas(double box, double dt, int seed, const std::string& thermostat, const std::string& le,
+                              int steps, int thermo_every) {
+  return fmt::format(
+      "[system]\nbox = [{0:.1f}, {0:.1f}, {0:.1f}]\nkT = 1.0\nseed = {1}\n\n[[species]]\nname = \"A\"\ndensity = 3.0\n\n"
+      "[pair]\na = 0.0\ngamma = 0.0\n\n[integrator]\ndt = {2}\n\n[thermostat]\n{3}\n\n[lees_edwards]\n{4}\n\n"
+      "[run]\nsteps = {5}\n\n[output]\nthermo_every = {6}\nprogress = false\n",
+      box, seed, dt, thermostat, le, steps, thermo_every);
+}
+
 // Lees-Edwards with Lowe-Andersen (the pair sweep takes the whole flow row across the sheared faces and
 // the image velocity in the pairs' relative velocity) in the ideal gas (a = 0): the profile stays the
 // imposed line, the temperature across the flow stays at kT within 3%, the momentum across the flow is
@@ -308,40 +319,8 @@ TEST(LeesEdwards, StandardFluidHasALinearProfileAndTheReversePoiseuilleViscosity
 // Warren's eta_D the same way: 0.988 +- 0.030, so the virial itself is right.)
 TEST(LeesEdwards, LoweAndersenThermostatKeepsTheShearedFluidAtKT) {
   const fs::path dir = fresh_dir("lowe_andersen");
-  const std::string text =
-      fmt::format(R"(
-[system]
-box = [8.0, 8.0, 8.0]
-kT = 1.0
-seed = 77
-
-[[species]]
-name = "A"
-density = 3.0
-
-[pair]
-a = 0.0
-gamma = 0.0
-
-[integrator]
-dt = 0.04
-
-[thermostat]
-type = "lowe-andersen"
-rate = 4.5
-
-[lees_edwards]
-shear_rate = 0.25
-stress_every = 5
-equilibrate = 250
-
-[run]
-steps = 3250
-
-[output]
-thermo_every = 50
-progress = false
-)");
+  const std::string text = sheared_ideal_gas(8.0, 0.04, 77, "type = \"lowe-andersen\"\nrate = 4.5",
+                                             "shear_rate = 0.25\nstress_every = 5\nequilibrate = 250", 3250, 50);
   Simulation sim(parse_config(text, "la.toml"), RunOptions{.out_dir = dir, .steps = {}, .restart = {}});
   auto momentum = [&] {
     std::array<double, 3> m{0, 0, 0};
@@ -396,39 +375,8 @@ progress = false
 // the pair sums eta_pairs would be about 0.
 TEST(LeesEdwards, PetersThermostatGivesTheDissipativeViscosityOfTheIdealGas) {
   const fs::path dir = fresh_dir("peters");
-  const std::string text = R"(
-[system]
-box = [6.0, 6.0, 6.0]
-kT = 1.0
-seed = 78
-
-[[species]]
-name = "A"
-density = 3.0
-
-[pair]
-a = 0.0
-gamma = 0.0
-
-[integrator]
-dt = 0.02
-
-[thermostat]
-type = "peters"
-gamma = 4.5
-
-[lees_edwards]
-shear_rate = 0.8
-stress_every = 4
-equilibrate = 200
-
-[run]
-steps = 15200
-
-[output]
-thermo_every = 100
-progress = false
-)";
+  const std::string text = sheared_ideal_gas(6.0, 0.02, 78, "type = \"peters\"\ngamma = 4.5",
+                                             "shear_rate = 0.8\nstress_every = 4\nequilibrate = 200", 15200, 100);
   Simulation sim(parse_config(text, "p.toml"), RunOptions{.out_dir = dir, .steps = {}, .restart = {}});
   const std::string summary = sim.run();
   std::printf("%s", summary.c_str());
