@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
@@ -106,6 +107,47 @@ void maxwell_spins(const SimulationSpec& spec, const std::vector<double>& inerti
 }
 
 }  // namespace
+
+// `mesodpd check`: per species its radius, moment of inertia and spin relaxation rate, per species pair
+// lambda_ij. The rate: a particle spinning at Omega among particles at rest feels from a neighbour j at
+// distance r the friction -gamma_perp w_perp(r) r x (lambda_ij Omega) across e and so the torque
+// lambda_ij^2 gamma_perp w_perp (r (r.Omega) - r^2 Omega), -(2/3) lambda_ij^2 gamma_perp w_perp r^2 Omega
+// on average over directions. Neighbours at the uniform density n_j give
+//   k_i = sum_j (8 pi / 3) lambda_ij^2 gamma_perp n_j r_d^5 B(5, s_perp + 1) / I_i,
+// B(5, s + 1) = 24 / ((s + 1)(s + 2)(s + 3)(s + 4)(s + 5)) = int_0^1 x^4 (1 - x)^s dx (g(r) = 1, as the
+// kinetic theory of the viscosity): the rate at which the spins forget, printed with k_i dt.
+std::string spdpd_numbers(const SimulationSpec& spec) {
+  if (!is_spdpd(spec) || spec.species.empty()) return "";
+  const double volume = spec.box[0] * spec.box[1] * spec.box[2];
+  const std::vector<double> inertia = species_inertia(spec);
+  std::string out = "single-particle DPD:\n";
+  const std::size_t n = spec.species.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const SpeciesSpec& si = spec.species[i];
+    const double ri = si.own.at("radius");
+    if (si.frozen) {
+      out += fmt::format("  {}: radius {:.4g}, frozen (never turns)\n", si.name, ri);
+      continue;
+    }
+    double rate = 0;
+    std::string lambdas;
+    for (std::size_t j = 0; j < n; ++j) {
+      const SpeciesSpec& sj = spec.species[j];
+      const double lambda = ri / (ri + sj.own.at("radius"));
+      const PairSpec& pair = spec.pair(static_cast<int>(i), static_cast<int>(j));
+      const double gperp = pair.value("gamma_perp");
+      const double sp = pair.value("s_perp") > 0 ? pair.value("s_perp") : pair.s;
+      const double beta = 24.0 / ((sp + 1) * (sp + 2) * (sp + 3) * (sp + 4) * (sp + 5));
+      rate += 8.0 * std::numbers::pi / 3.0 * lambda * lambda * gperp * static_cast<double>(sj.count) / volume *
+              std::pow(pair.rd, 5) * beta;
+      lambdas += fmt::format("{}{} {:.4g}", lambdas.empty() ? "" : ", ", sj.name, lambda);
+    }
+    rate /= inertia[i];
+    out += fmt::format("  {}: radius {:.4g}, inertia {:.4g}, spin relaxation rate {:.4g} (x dt = {:.3g}); lambda with {}\n",
+                       si.name, ri, inertia[i], rate, rate * spec.dt, lambdas);
+  }
+  return out;
+}
 
 void install_spdpd(Installation& in) {
   const SimulationSpec& spec = in.spec;

@@ -29,6 +29,7 @@ std::optional<ShearImages> lees_edwards_images(const SimulationSpec&);
 void install_sdpd(Installation& in);             // pair.style = "sdpd": refusals only (its law does the rest)
 std::string sdpd_numbers(const SimulationSpec&); // its limits and numbers for `mesodpd check`
 void install_spdpd(Installation& in);            // pair.style = "spdpd": angular velocities and their step
+std::string spdpd_numbers(const SimulationSpec&); // lambda, inertias, spin relaxation rates for `mesodpd check`
 void install_membrane(Installation& in);          // [[membrane]]: cells' vertices (placed) and forces (Forces)
 ModelSection membrane_section();
 std::vector<PlacedParticle> membrane_particles(const SimulationSpec&);
@@ -76,7 +77,7 @@ std::vector<Model> models() {
                           {"lees_edwards", install_lees_edwards, lees_edwards_section, lees_edwards_numbers,
                            lees_edwards_images},
                           {"sdpd", install_sdpd, {}, sdpd_numbers},
-                          {"spdpd", install_spdpd, {}},
+                          {"spdpd", install_spdpd, {}, spdpd_numbers},
                           {"membrane", install_membrane, membrane_section, {}, {}, membrane_particles},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
