@@ -64,6 +64,7 @@ struct MembraneSpec {
   std::uint64_t output_every = 0;
   bool bounce = true;
   std::string inner_species;
+  double repulsion = 0, repulsion_range = 0.5;
 };
 
 namespace {
@@ -105,6 +106,8 @@ const keys::KeyTable<MembraneSpec>& membrane_keys() {
     t.number("gamma_t", &T::gamma_t, keys::kNonNegative, "Membrane viscosity: the edge friction gamma_T on the relative velocity of an edge's ends, with its random force (fluctuation-dissipation at `system.kT`; docs/physics.md). Give gamma_t and gamma_c, or `viscosity`.");
     t.number("gamma_c", &T::gamma_c, keys::kNonNegative, "Membrane viscosity: the edge friction gamma_C along the edge. The random force needs 3 gamma_c >= gamma_t.");
     t.number("viscosity", &T::viscosity, keys::kNonNegative, "The membrane shear viscosity eta_m = sqrt(3) (gamma_T + gamma_C / 4) (Fedosov et al. 2010), with gamma_C = gamma_T / 3 as they chose: gamma_T = 12 eta_m / (13 sqrt(3)).");
+    t.number("repulsion", &T::repulsion, keys::kNonNegative, "Cells that touch: the amplitude a of a soft repulsion a (1 - r / r_r) between vertices of two different cells closer than `repulsion_range` r_r (within a cell the membrane forces act; without it nothing but the fluid between them keeps two cells apart, and a squeezed cell can pass through another). Between blocks the amplitude is sqrt(a_1 a_2) and the range the larger one; 0 (the default) in either block: no repulsion between them. In the pressure tensor and in membrane_energy (energy a r_r / 2 (1 - r / r_r)^2 per pair).");
+    t.number("repulsion_range", &T::repulsion_range, keys::kPositive, "The range r_r of `repulsion` (typically the mean edge length of the mesh).").default_text("0.5");
     t.number("tweezers_force", &T::tweezers_force, keys::kNonNegative, "Optical-tweezers stretching (Mills et al. 2004): a total force +F along `tweezers_axis` spread over the `tweezers_fraction` of the vertices farthest along it in the initial mesh, -F over the same fraction at the other end.");
     t.number("tweezers_fraction", &T::tweezers_fraction, {0.0, 0.5, false, true}, "The gripped fraction of the vertices at each end.").default_text("0.02");
     t.choice("tweezers_axis", &T::tweezers_axis, {{"x", 0}, {"y", 1}, {"z", 2}}, "The stretching direction.").default_text("\"x\"");
@@ -490,6 +493,7 @@ struct Cell {
   std::uint64_t ramp = 0;              // steps over which it grows from 0
   std::size_t species = 0;             // of its vertices
   std::size_t block = 0;               // its [[membrane]] block
+  double repulsion = 0, repulsion_range = 0;  // its block's repulsion from other cells
 };
 
 class MembraneForcesStage final : public Stage {
@@ -500,7 +504,12 @@ class MembraneForcesStage final : public Stage {
                 std::any_of(cells_.begin(), cells_.end(), [](const Cell& c) { return c.model.viscous(); })
                     ? VertexGather::Velocities::Predicted
                     : VertexGather::Velocities::None),
-        seed_(seed) {}
+        seed_(seed) {
+    for (std::size_t c = 0; c < cells_.size(); ++c) {
+      cell_of_.insert(cell_of_.end(), cells_[c].model.vertex_count(), static_cast<std::uint32_t>(c));
+      if (cells_[c].repulsion > 0) range_ = std::max(range_, cells_[c].repulsion_range);
+    }
+  }
   void run(StepContext& ctx) override {
     const std::vector<Vec3>& all = gather_.gather(ctx);
     forces_.assign(all.size(), Vec3{});
@@ -555,13 +564,21 @@ class MembraneForcesStage final : public Stage {
       }
       energy_ += energies_[c];
     }
+    std::array<double, 6> contact{};
+    if (range_ > 0) {
+      contact = repel(all, ctx.box);
+      energy_ += contact_energy_;
+    }
     // The membranes' internal forces act between particles: their virial belongs to the stress (summed in
     // cell order, the same on every rank, which all evaluate every cell). The tweezers are external.
-    if (ctx.pair_sums)
+    if (ctx.pair_sums) {
       for (const CellVirial& w : virials_) {
         for (std::size_t k = 0; k < 6; ++k) ctx.pair_sums->virial[k] += w.total[k];
         ctx.pair_sums->virial_conservative += w.elastic_trace;
       }
+      for (std::size_t k = 0; k < 6; ++k) ctx.pair_sums->virial[k] += contact[k];
+      ctx.pair_sums->virial_conservative += contact[0] + contact[1] + contact[2];
+    }
     ParticleData& p = ctx.particles;
     const std::uint32_t first = gather_.first(), end = first + static_cast<std::uint32_t>(all.size());
     for (std::size_t i = 0; i < p.n_local; ++i) {
@@ -586,6 +603,101 @@ class MembraneForcesStage final : public Stage {
     double elastic_trace = 0;       // of the conservative (elastic) forces only
   };
   std::vector<CellVirial> virials_;  // per cell
+
+  // The repulsion between vertices of different cells ([[membrane]] repulsion): adds each vertex's force to
+  // forces_, sets contact_energy_ and returns the virial (PairSums' order). Every vertex sums over its own
+  // neighbours (bins of at least the largest range, minimum image), on all threads; the totals are added
+  // in vertex order, so the bits do not depend on the thread count.
+  std::array<double, 6> repel(const std::vector<Vec3>& all, const Box& box) {
+    const std::size_t n = all.size();
+    int dims[3];
+    for (int d = 0; d < 3; ++d) dims[d] = std::max(1, static_cast<int>(std::floor(box.length(d) / range_)));
+    const auto bin_of = [&](const Vec3& r, int out[3]) {
+      const double x[3] = {r.x, r.y, r.z};
+      for (int d = 0; d < 3; ++d) {
+        const double l = box.length(d);
+        const double w = x[d] - l * std::floor(x[d] / l);
+        out[d] = std::clamp(static_cast<int>(w / l * dims[d]), 0, dims[d] - 1);
+      }
+    };
+    const std::size_t bins = static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
+    std::vector<std::uint32_t> start(bins + 1, 0), bin(n), order(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      int b[3];
+      bin_of(all[i], b);
+      bin[i] = static_cast<std::uint32_t>((b[0] * dims[1] + b[1]) * dims[2] + b[2]);
+      ++start[bin[i] + 1];
+    }
+    for (std::size_t b = 0; b < bins; ++b) start[b + 1] += start[b];
+    {
+      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+      for (std::size_t i = 0; i < n; ++i) order[fill[bin[i]]++] = static_cast<std::uint32_t>(i);
+    }
+    std::vector<Vec3> f(n);
+    std::vector<double> e(n, 0.0);
+    std::vector<std::array<double, 6>> w(n);
+    const auto ptr = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t ii = 0; ii < ptr; ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      const Cell& ci = cells_[cell_of_[i]];
+      if (ci.repulsion == 0) continue;
+      int b[3];
+      bin_of(all[i], b);
+      int near[3][3], m[3];
+      for (int d = 0; d < 3; ++d) {  // the distinct neighbouring bins along d (a bounded axis does not wrap)
+        m[d] = 0;
+        for (int o = -1; o <= 1; ++o) {
+          int k = b[d] + o;
+          if (k < 0 || k >= dims[d]) {
+            if (!box.periodic[static_cast<std::size_t>(d)]) continue;
+            k = (k + dims[d]) % dims[d];
+          }
+          if (std::find(near[d], near[d] + m[d], k) == near[d] + m[d]) near[d][m[d]++] = k;
+        }
+      }
+      for (int a0 = 0; a0 < m[0]; ++a0)
+        for (int a1 = 0; a1 < m[1]; ++a1)
+          for (int a2 = 0; a2 < m[2]; ++a2) {
+            const std::size_t bb = static_cast<std::size_t>((near[0][a0] * dims[1] + near[1][a1]) * dims[2] + near[2][a2]);
+            for (std::uint32_t q = start[bb]; q < start[bb + 1]; ++q) {
+              const std::uint32_t j = order[q];
+              if (cell_of_[j] == cell_of_[i]) continue;
+              const Cell& cj = cells_[cell_of_[j]];
+              if (cj.repulsion == 0) continue;
+              const double rr = std::max(ci.repulsion_range, cj.repulsion_range);
+              double dx[3] = {all[i].x - all[j].x, all[i].y - all[j].y, all[i].z - all[j].z};
+              for (int d = 0; d < 3; ++d)
+                if (box.periodic[static_cast<std::size_t>(d)]) dx[d] -= box.length(d) * std::round(dx[d] / box.length(d));
+              const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+              if (r2 >= rr * rr || r2 == 0.0) continue;
+              const double r = std::sqrt(r2), a = std::sqrt(ci.repulsion * cj.repulsion), om = 1.0 - r / rr;
+              const double fr = a * om / r;  // the force on i is fr d
+              f[i] += Vec3{fr * dx[0], fr * dx[1], fr * dx[2]};
+              e[i] += 0.25 * a * rr * om * om;  // half of the pair's a r_r / 2 (1 - r/r_r)^2
+              // Half of the pair's virial d (x) F (the other half comes with j): ab = d_b F_a.
+              std::array<double, 6>& wi = w[i];
+              wi[0] += 0.5 * dx[0] * fr * dx[0];
+              wi[1] += 0.5 * dx[1] * fr * dx[1];
+              wi[2] += 0.5 * dx[2] * fr * dx[2];
+              wi[3] += 0.5 * dx[1] * fr * dx[0];
+              wi[4] += 0.5 * dx[2] * fr * dx[0];
+              wi[5] += 0.5 * dx[2] * fr * dx[1];
+            }
+          }
+    }
+    std::array<double, 6> total{};
+    contact_energy_ = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      forces_[i] += f[i];
+      contact_energy_ += e[i];
+      for (std::size_t k = 0; k < 6; ++k) total[k] += w[i][k];
+    }
+    return total;
+  }
+  std::vector<std::uint32_t> cell_of_;  // per gathered vertex: its cell
+  double range_ = 0;                    // the largest repulsion range (0: no repulsion)
+  double contact_energy_ = 0;
   std::vector<Vec3> forces_;
   std::vector<double> energies_;     // per cell, summed in cell order
   std::vector<std::size_t> broken_;  // per cell: the hinge of a broken edge, or kIntact
@@ -1254,7 +1366,7 @@ void install_membrane(Installation& in) {
     const std::size_t nv = model.vertex_count();
     std::vector<Vec3> external = membrane::tweezers(mesh, c.tweezers_force, c.tweezers_fraction, c.tweezers_axis);
     cells.push_back({std::move(model), next, std::move(external), c.tweezers_ramp,
-                     static_cast<std::size_t>(species_of(c, in.spec, key)), pc.block});
+                     static_cast<std::size_t>(species_of(c, in.spec, key)), pc.block, c.repulsion, c.repulsion_range});
     next += static_cast<std::uint32_t>(nv);
     every.push_back(c.output_every);
     axes.push_back(c.tweezers_axis);
