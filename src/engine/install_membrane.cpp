@@ -32,6 +32,7 @@
 #include "parallel/comm.hpp"
 #include "membrane/bounce.hpp"
 #include "membrane/membrane_forces.hpp"
+#include "core/adjacent_bins.hpp"
 #include "membrane/mesh.hpp"
 #include "mesodpd/config_error.hpp"
 #include "mesodpd/key_table.hpp"
@@ -645,17 +646,7 @@ class MembraneForcesStage final : public Stage {
       int b[3];
       bin_of(all[i], b);
       int near[3][3], m[3];
-      for (int d = 0; d < 3; ++d) {  // the distinct neighbouring bins along d (a bounded axis does not wrap)
-        m[d] = 0;
-        for (int o = -1; o <= 1; ++o) {
-          int k = b[d] + o;
-          if (k < 0 || k >= dims[d]) {
-            if (!box.periodic[static_cast<std::size_t>(d)]) continue;
-            k = (k + dims[d]) % dims[d];
-          }
-          if (std::find(near[d], near[d] + m[d], k) == near[d] + m[d]) near[d][m[d]++] = k;
-        }
-      }
+      for (int d = 0; d < 3; ++d) m[d] = adjacent_bins(b[d], dims[d], box.periodic[static_cast<std::size_t>(d)], near[d]);
       for (int a0 = 0; a0 < m[0]; ++a0)
         for (int a1 = 0; a1 < m[1]; ++a1)
           for (int a2 = 0; a2 < m[2]; ++a2) {

@@ -8,6 +8,7 @@
 
 #include "engine/fixed_point.hpp"
 #include "engine/pair_contribution.hpp"
+#include "core/adjacent_bins.hpp"
 
 namespace mesodpd {
 
@@ -93,17 +94,8 @@ void for_each_pair_binned(const ParticleData& p, const Box& box, double cutoff, 
     near.clear();
     // The distinct neighbour cell coordinates along each axis (none beyond a bounded face).
     int nb[3][3], count[3];
-    for (int d = 0; d < 3; ++d) {
-      count[d] = 0;
-      for (int o = -1; o <= 1; ++o) {
-        int c = at[i][static_cast<std::size_t>(d)] + o;
-        if (c < 0 || c >= nc[d]) {
-          if (!box.periodic[static_cast<std::size_t>(d)]) continue;
-          c = (c + nc[d]) % nc[d];
-        }
-        if (std::find(nb[d], nb[d] + count[d], c) == nb[d] + count[d]) nb[d][count[d]++] = c;
-      }
-    }
+    for (int d = 0; d < 3; ++d)
+      count[d] = adjacent_bins(at[i][static_cast<std::size_t>(d)], nc[d], box.periodic[static_cast<std::size_t>(d)], nb[d]);
     for (int az = 0; az < count[2]; ++az)
       for (int ay = 0; ay < count[1]; ++ay)
         for (int ax = 0; ax < count[0]; ++ax) {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/philox.hpp"
+#include "core/adjacent_bins.hpp"
 
 namespace mesodpd {
 
@@ -109,22 +110,7 @@ void PairThermostat::sweep(ParticleData& p, const Box& box, const std::vector<do
   // The distinct neighbouring cell coordinates of c along axis d (fewer than three when the axis has
   // fewer than three cells, or at the faces of a bounded axis), and whether each wrapped round.
   const auto near = [&](int c, int d, int out[3], bool wrapped[3]) {
-    const int nd = dims_[static_cast<std::size_t>(d)];
-    int count = 0;
-    for (int o = -1; o <= 1; ++o) {
-      int k = c + o;
-      bool w = false;
-      if (k < 0 || k >= nd) {
-        if (!box.periodic[static_cast<std::size_t>(d)]) continue;
-        k = (k + nd) % nd;
-        w = true;
-      }
-      if (std::find(out, out + count, k) == out + count) {
-        wrapped[count] = w;
-        out[count++] = k;
-      }
-    }
-    return count;
+    return adjacent_bins(c, dims_[static_cast<std::size_t>(d)], box.periodic[static_cast<std::size_t>(d)], out, wrapped);
   };
   // With Lees-Edwards images a neighbour row across the gradient faces takes the whole flow axis (its
   // image is shifted there); the gradient axis has at least three cells (validated), so the relation
