@@ -14,13 +14,18 @@ inline double kinetic_diffusivity(double rho, double gamma, double kT, double rd
   return 3.0 * kT * (s + 1.0) * (s + 2.0) * (s + 3.0) / (8.0 * std::numbers::pi * gamma * rho * rd * rd * rd);
 }
 
-// Dissipative (collisional) part of the shear viscosity, seed 000 Eq. 16. The bracket is the
-// moment Int_0^1 x^4 (1 - x)^s dx expanded for the binomial, which is why it has five terms.
+// The moment Int_0^1 x^4 (1 - x)^s dx of a weight (1 - r/r_d)^s, as seed 000 Eq. 16's bracket writes it
+// (the binomial expanded, hence five terms; it equals 24 / ((s+1)(s+2)(s+3)(s+4)(s+5))). The friction of a
+// pair weighted by r^2 over a sphere of neighbours: the dissipative viscosity below and single-particle
+// DPD's spin relaxation rate (engine/install_spdpd.cpp).
+inline double weight_moment4(double s) {
+  return 1.0 / (s + 1.0) - 4.0 / (s + 2.0) + 6.0 / (s + 3.0) - 4.0 / (s + 4.0) + 1.0 / (s + 5.0);
+}
+
+// Dissipative (collisional) part of the shear viscosity, seed 000 Eq. 16.
 inline double kinetic_dissipative_viscosity(double rho, double gamma, double rd, double s) {
-  const double bracket =
-      1.0 / (s + 1.0) - 4.0 / (s + 2.0) + 6.0 / (s + 3.0) - 4.0 / (s + 4.0) + 1.0 / (s + 5.0);
   const double rd5 = rd * rd * rd * rd * rd;
-  return 2.0 * std::numbers::pi * gamma * rho * rho * rd5 / 15.0 * bracket;
+  return 2.0 * std::numbers::pi * gamma * rho * rho * rd5 / 15.0 * weight_moment4(s);
 }
 
 // Total shear viscosity = kinetic part rho D / 2 (unit mass) + dissipative part (seed 000 Table 1).

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "core/adjacent_bins.hpp"
 #include "engine/blow_up_error.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/installer.hpp"
@@ -32,7 +33,6 @@
 #include "parallel/comm.hpp"
 #include "membrane/bounce.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "core/adjacent_bins.hpp"
 #include "membrane/mesh.hpp"
 #include "mesodpd/config_error.hpp"
 #include "mesodpd/key_table.hpp"
@@ -622,35 +622,40 @@ class MembraneForcesStage final : public Stage {
       }
     };
     const std::size_t bins = static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
-    std::vector<std::uint32_t> start(bins + 1, 0), bin(n), order(n);
+    // A counting sort of the vertices by bin (the buffers are kept from step to step).
+    std::vector<std::uint32_t>& start = rep_start_;
+    start.assign(bins + 1, 0);
+    rep_cell_.resize(n);
+    rep_order_.resize(n);
+    const auto flat = [&](int x, int y, int z) { return static_cast<std::size_t>((x * dims[1] + y) * dims[2] + z); };
     for (std::size_t i = 0; i < n; ++i) {
-      int b[3];
-      bin_of(all[i], b);
-      bin[i] = static_cast<std::uint32_t>((b[0] * dims[1] + b[1]) * dims[2] + b[2]);
-      ++start[bin[i] + 1];
+      bin_of(all[i], rep_cell_[i].data());
+      ++start[flat(rep_cell_[i][0], rep_cell_[i][1], rep_cell_[i][2]) + 1];
     }
     for (std::size_t b = 0; b < bins; ++b) start[b + 1] += start[b];
-    {
-      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-      for (std::size_t i = 0; i < n; ++i) order[fill[bin[i]]++] = static_cast<std::uint32_t>(i);
-    }
-    std::vector<Vec3> f(n);
-    std::vector<double> e(n, 0.0);
-    std::vector<std::array<double, 6>> w(n);
+    rep_fill_.assign(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      rep_order_[rep_fill_[flat(rep_cell_[i][0], rep_cell_[i][1], rep_cell_[i][2])]++] = static_cast<std::uint32_t>(i);
+    const std::vector<std::uint32_t>& order = rep_order_;
+    std::vector<Vec3>& f = rep_force_;
+    std::vector<double>& e = rep_energy_;
+    std::vector<std::array<double, 6>>& w = rep_virial_;
+    f.assign(n, Vec3{});
+    e.assign(n, 0.0);
+    w.assign(n, std::array<double, 6>{});
     const auto ptr = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t ii = 0; ii < ptr; ++ii) {
       const auto i = static_cast<std::size_t>(ii);
       const Cell& ci = cells_[cell_of_[i]];
       if (ci.repulsion == 0) continue;
-      int b[3];
-      bin_of(all[i], b);
+      const std::array<int, 3>& b = rep_cell_[i];
       int near[3][3], m[3];
       for (int d = 0; d < 3; ++d) m[d] = adjacent_bins(b[d], dims[d], box.periodic[static_cast<std::size_t>(d)], near[d]);
       for (int a0 = 0; a0 < m[0]; ++a0)
         for (int a1 = 0; a1 < m[1]; ++a1)
           for (int a2 = 0; a2 < m[2]; ++a2) {
-            const std::size_t bb = static_cast<std::size_t>((near[0][a0] * dims[1] + near[1][a1]) * dims[2] + near[2][a2]);
+            const std::size_t bb = flat(near[0][a0], near[1][a1], near[2][a2]);
             for (std::uint32_t q = start[bb]; q < start[bb + 1]; ++q) {
               const std::uint32_t j = order[q];
               if (cell_of_[j] == cell_of_[i]) continue;
@@ -686,6 +691,13 @@ class MembraneForcesStage final : public Stage {
     }
     return total;
   }
+  // repel()'s buffers, kept from step to step: per vertex its bin coordinates, force, energy and virial
+  // halves; the bins' starts, the vertices in bin order, the counting sort's fill pointers.
+  std::vector<std::array<int, 3>> rep_cell_;
+  std::vector<Vec3> rep_force_;
+  std::vector<double> rep_energy_;
+  std::vector<std::array<double, 6>> rep_virial_;
+  std::vector<std::uint32_t> rep_start_, rep_order_, rep_fill_;
   std::vector<std::uint32_t> cell_of_;  // per gathered vertex: its cell
   double range_ = 0;                    // the largest repulsion range (0: no repulsion)
   double contact_energy_ = 0;

@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "core/philox.hpp"
+#include "analysis/kinetic_theory.hpp"
 #include "engine/blow_up_error.hpp"
 #include "engine/installer.hpp"
 #include "engine/pair_laws.hpp"
@@ -113,9 +114,9 @@ void maxwell_spins(const SimulationSpec& spec, const std::vector<double>& inerti
 // distance r the friction -gamma_perp w_perp(r) r x (lambda_ij Omega) across e and so the torque
 // lambda_ij^2 gamma_perp w_perp (r (r.Omega) - r^2 Omega), -(2/3) lambda_ij^2 gamma_perp w_perp r^2 Omega
 // on average over directions. Neighbours at the uniform density n_j give
-//   k_i = sum_j (8 pi / 3) lambda_ij^2 gamma_perp n_j r_d^5 B(5, s_perp + 1) / I_i,
-// B(5, s + 1) = 24 / ((s + 1)(s + 2)(s + 3)(s + 4)(s + 5)) = int_0^1 x^4 (1 - x)^s dx (g(r) = 1, as the
-// kinetic theory of the viscosity): the rate at which the spins forget, printed with k_i dt.
+//   k_i = sum_j (8 pi / 3) lambda_ij^2 gamma_perp n_j r_d^5 Int_0^1 x^4 (1 - x)^s_perp dx / I_i
+// (weight_moment4; g(r) = 1, as the kinetic theory of the viscosity): the rate at which the spins forget,
+// printed with k_i dt.
 std::string spdpd_numbers(const SimulationSpec& spec) {
   if (!is_spdpd(spec) || spec.species.empty()) return "";
   const double volume = spec.box[0] * spec.box[1] * spec.box[2];
@@ -137,9 +138,8 @@ std::string spdpd_numbers(const SimulationSpec& spec) {
       const PairSpec& pair = spec.pair(static_cast<int>(i), static_cast<int>(j));
       const double gperp = pair.value("gamma_perp");
       const double sp = pair.value("s_perp") > 0 ? pair.value("s_perp") : pair.s;
-      const double beta = 24.0 / ((sp + 1) * (sp + 2) * (sp + 3) * (sp + 4) * (sp + 5));
       rate += 8.0 * std::numbers::pi / 3.0 * lambda * lambda * gperp * static_cast<double>(sj.count) / volume *
-              std::pow(pair.rd, 5) * beta;
+              std::pow(pair.rd, 5) * weight_moment4(sp);
       lambdas += fmt::format("{}{} {:.4g}", lambdas.empty() ? "" : ", ", sj.name, lambda);
     }
     rate /= inertia[i];

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <variant>
 
+#include "core/adjacent_bins.hpp"
 #include "engine/fixed_point.hpp"
 #include "engine/pair_contribution.hpp"
-#include "core/adjacent_bins.hpp"
 
 namespace mesodpd {
 
