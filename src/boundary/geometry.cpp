@@ -142,7 +142,8 @@ class PillarShape final : public Shape {
 
 double largest_lipschitz(const std::vector<std::unique_ptr<Shape>>& parts) {
   double l = 1.0;
-  for (const auto& s : parts) l = std::max(l, s->lipschitz());
+  for (const auto& s : parts)
+    if (s) l = std::max(l, s->lipschitz());
   return l;
 }
 
@@ -230,16 +231,18 @@ std::unique_ptr<Shape> make_shape(const ShapeSpec& s, const Box& box, const std:
   throw ConfigError(fmt::format("{}.shape: unknown shape", key));
 }
 
-Geometry::Geometry(const std::vector<SolidSpec>& solids, const Box& box) {
+Geometry::Geometry(const std::vector<SolidSpec>& solids, const Box& box, const std::vector<std::uint8_t>& released) {
   for (std::size_t k = 0; k < solids.size(); ++k)
-    shapes_.push_back(make_shape(solids[k].shape, box, fmt::format("solid[{}]", k)));
+    shapes_.push_back(k < released.size() && released[k] ? nullptr
+                                                          : make_shape(solids[k].shape, box, fmt::format("solid[{}]", k)));
 }
 
 double Geometry::sdf(const Vec3& p, int& body) const {
   double d = kInf;
   body = -1;
   for (std::size_t k = 0; k < shapes_.size(); ++k)
-    if (const double dk = shapes_[k]->sdf(p); dk < d) d = dk, body = static_cast<int>(k);
+    if (shapes_[k])
+      if (const double dk = shapes_[k]->sdf(p); dk < d) d = dk, body = static_cast<int>(k);
   return d;
 }
 

@@ -3,6 +3,7 @@
 // unions and differences. Frozen walls, reflections and the drag use them through Geometry.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,7 +38,9 @@ std::unique_ptr<Shape> make_shape(const ShapeSpec& spec, const Box& box, const s
 class Geometry {
  public:
   Geometry() = default;
-  Geometry(const std::vector<SolidSpec>& solids, const Box& box);
+  // `released[k]` != 0 leaves solid k out (a solid another model moves, boundary/rigid_bodies.hpp): its
+  // index stays, but sdf() never returns it. Empty: every solid.
+  Geometry(const std::vector<SolidSpec>& solids, const Box& box, const std::vector<std::uint8_t>& released = {});
   bool empty() const { return shapes_.empty(); }
   std::size_t bodies() const { return shapes_.size(); }
   // Signed distance to the nearest solid (+infinity without solids); `body` gets its index.
@@ -48,12 +51,12 @@ class Geometry {
   double sdf(const Vec3& p, int& body) const;
   // Outward normal of body k at p.
   Vec3 normal(const Vec3& p, int body) const { return shapes_[static_cast<std::size_t>(body)]->normal(p); }
-  const Shape& shape(std::size_t k) const { return *shapes_[k]; }
+  const Shape& shape(std::size_t k) const { return *shapes_[k]; }  // not for a released solid
   // The largest Shape::lipschitz() of the solids (1 without any).
   double lipschitz() const;
 
  private:
-  std::vector<std::unique_ptr<Shape>> shapes_;
+  std::vector<std::unique_ptr<Shape>> shapes_;  // null for a released solid
 };
 
 }  // namespace mesodpd

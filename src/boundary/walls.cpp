@@ -27,8 +27,8 @@ void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
 
 }  // namespace
 
-Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity)
-    : spec_(spec), geometry_(spec.solids, box), half_velocity_(half_velocity) {
+Walls::Walls(const SimulationSpec& spec, const Box& box, bool half_velocity, const std::vector<std::uint8_t>& released)
+    : spec_(spec), geometry_(spec.solids, box, released), half_velocity_(half_velocity) {
   for (const auto& s : spec.species) frozen_.push_back(s.frozen ? 1 : 0);
   double mass = 0;
   for (const auto& s : spec.species)

@@ -25,11 +25,20 @@ class Comm;
 inline constexpr double kWallFixedScale = 4294967296.0;
 inline std::int64_t wall_fixed(double v) { return static_cast<std::int64_t>(std::llround(v * kWallFixedScale)); }
 
+// The [[solid]] blocks that a model moves itself (rigid bodies, boundary/rigid_bodies.hpp), by solid
+// index: such a model adds this to the Components before the walls are installed, and the walls then
+// leave those solids out of their reflections and adaptive force (their frozen particles stay, and the
+// drag still reports the pair forces on them).
+struct ReleasedSolids {
+  std::vector<std::uint8_t> released;
+};
+
 class Walls {
  public:
   // `half_velocity`: the integrator keeps the physical velocity in p.h{x,y,z} between its two halves
-  // (modified velocity-Verlet) and p.v is the predicted one; false for Euler (p.v only).
-  Walls(const SimulationSpec& spec, const Box& box, bool half_velocity);
+  // (modified velocity-Verlet) and p.v is the predicted one; false for Euler (p.v only). `released`:
+  // ReleasedSolids::released (empty: none).
+  Walls(const SimulationSpec& spec, const Box& box, bool half_velocity, const std::vector<std::uint8_t>& released = {});
 
   // AfterFirstHalf: every mobile particle found inside a solid (a penetration) is mirrored out through
   // the surface, and its velocity gets the walls.reflection rule if it points into the solid.

@@ -22,7 +22,10 @@ void install_walls(Installation& in) {
   // Penetrations mirrored right after the positions move, reflections in the layer after the velocities
   // are complete, drag samples at the end of each step, the reflection and penetration counts as thermo
   // columns, and the drag averages (and adaptive force) in checkpoints.
-  Walls& w = in.components.add(std::make_shared<Walls>(spec, sim.box(), spec.integrator == IntegratorKind::GrootWarren));
+  // Solids that a model moves (rigid bodies) are left to it.
+  const ReleasedSolids* released = in.components.find<ReleasedSolids>();
+  Walls& w = in.components.add(std::make_shared<Walls>(spec, sim.box(), spec.integrator == IntegratorKind::GrootWarren,
+                                                       released ? released->released : std::vector<std::uint8_t>{}));
   in.stages.add(StagePoint::AfterFirstHalf, make_stage([&w](StepContext& ctx) { w.mirror_positions(ctx); }));
   in.stages.add(StagePoint::AfterSecondHalf, make_stage([&w](StepContext& ctx) { w.reflect_velocities(ctx); }));
   WallDrag& drag = in.components.share(in.stages.add(
