@@ -162,10 +162,18 @@ std::string WallDrag::finish(const Comm& comm) const {
   const std::vector<DragResult> drag = results();
   std::string summary = fmt::format(
       "walls: {} penetrations of a solid during the run ({} force kicks stopped at a surface)\n", pen, pushes);
-  for (const DragResult& r : drag)
+  for (std::size_t b = 0; b < drag.size(); ++b) {
+    const DragResult& r = drag[b];
+    // A solid that a model moves (a rigid body) reports its own force, with the momentum of its own
+    // bounce-backs, which the pair forces here leave out.
+    if (walls_.geometry().released(b)) {
+      summary += fmt::format("drag on {}: moved by a model (a [[body]]): its force is in that model's output\n", r.name);
+      continue;
+    }
     summary += fmt::format("drag on {}: ({:.5g} +- {:.2g}, {:.5g} +- {:.2g}, {:.5g} +- {:.2g}) over {} samples{}\n", r.name,
                            r.force[0], r.error[0], r.force[1], r.error[1], r.force[2], r.error[2], r.samples,
                            r.cd >= 0 ? fmt::format(", C_D = {:.4g} +- {:.2g}", r.cd, r.cd_error) : "");
+  }
   if (out_dir_.empty()) return summary;
   comm.on_root([&] {
     write_file_atomically(out_dir_ / "drag_summary.csv", [&](std::ostream& f) {

@@ -52,6 +52,7 @@ class Geometry {
   // Outward normal of body k at p.
   Vec3 normal(const Vec3& p, int body) const { return shapes_[static_cast<std::size_t>(body)]->normal(p); }
   const Shape& shape(std::size_t k) const { return *shapes_[k]; }  // not for a released solid
+  bool released(std::size_t k) const { return !shapes_[k]; }
   // The largest Shape::lipschitz() of the solids (1 without any).
   double lipschitz() const;
 

@@ -33,6 +33,8 @@ std::string spdpd_numbers(const SimulationSpec&); // lambda, inertias, spin rela
 void install_membrane(Installation& in);          // [[membrane]]: cells' vertices (placed) and forces (Forces)
 ModelSection membrane_section();
 std::vector<PlacedParticle> membrane_particles(const SimulationSpec&);
+void install_bodies(Installation& in);            // [[body]]: rigid bodies of frozen particles (before the walls)
+ModelSection body_section();
 void install_external_fields(Installation& in);  // species body forces, reverse Poiseuille (Forces)
 void install_initial_forces(Installation& in);   // the forces of the initial state (after the fields)
 void install_walls(Installation& in);            // [[solid]]: reflections, adaptive force, drag
@@ -79,6 +81,7 @@ std::vector<Model> models() {
                           {"sdpd", install_sdpd, {}, sdpd_numbers},
                           {"spdpd", install_spdpd, {}, spdpd_numbers},
                           {"membrane", install_membrane, membrane_section, {}, {}, membrane_particles},
+                          {"bodies", install_bodies, body_section},
                           {"external_fields", install_external_fields, {}},
                           {"initial_forces", install_initial_forces, {}},
                           {"walls", install_walls, {}},

@@ -1,0 +1,196 @@
+// [[body]]: a [[solid]] that moves as a rigid body (engine/rigid_bodies.hpp). The installer takes the
+// solid away from the fixed walls (ReleasedSolids, before the walls are installed), attaches the solid's
+// frozen particles to the body in a new run, and adds two stages: the body's half kick, drift and the
+// fluid's bounce-back right after the particles move (AfterFirstHalf), and its new force and second half
+// kick after the forces (AfterSecondHalf). bodies.csv has each body's position, orientation, velocities,
+// force and torque; a thermo column counts the bounce-backs, the end-of-run summary the fluid particles
+// found inside a body (target 0).
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "boundary/walls.hpp"
+#include "engine/installer.hpp"
+#include "engine/rigid_bodies.hpp"
+#include "engine/simulation.hpp"
+#include "io/byte_buffer.hpp"
+#include "io/output_file.hpp"
+#include "mesodpd/config_error.hpp"
+#include "mesodpd/key_table.hpp"
+#include "mesodpd/model_section.hpp"
+#include "parallel/comm.hpp"
+
+namespace mesodpd {
+
+namespace {
+
+const keys::KeyTable<BodySpec>& body_keys() {
+  using T = BodySpec;
+  static const keys::KeyTable<T> table = [] {
+    keys::KeyTable<T> t("body");
+    t.string("solid", &T::solid,
+             "The `[[solid]]` (by `name`) that moves as this rigid body: a sphere, a box, or a union or difference of "
+             "them, made of a frozen species. Its frozen particles (the fluid frozen inside it, `walls.depth` deep) "
+             "move with it; the fixed walls no longer reflect at its surface, the body bounces the fluid back itself "
+             "(relative to the surface's own velocity V + Omega x r), and it turns and moves under the pair forces "
+             "on its particles. At most one body per solid.")
+        .required("(a [[solid]] name)");
+    t.choice("motion", &T::motion, {{"free", BodyMotion::Free}, {"towed", BodyMotion::Towed}},
+             "`free`: the body moves under the forces and torques (pair forces on its particles, the fluid's "
+             "bounce-back, `force`, `torque`, contacts), starting at `velocity` and `angular_velocity`; `towed`: "
+             "it moves at `velocity` and turns at `angular_velocity` whatever the forces, which bodies.csv then "
+             "reports (the drag and the torque of a towed or rotated sphere).")
+        .default_text("\"free\"");
+    t.vec3("velocity", &T::velocity, keys::kFinite,
+           "Velocity of the centre of mass: at the start (free) or always (towed).");
+    t.vec3("angular_velocity", &T::angular_velocity, keys::kFinite,
+           "Angular velocity about the centre of mass (lab frame): at the start (free) or always (towed).");
+    t.vec3("force", &T::force, keys::kFinite, "A constant external force on a free body (sedimentation).");
+    t.vec3("torque", &T::torque, keys::kFinite, "A constant external torque on a free body (lab frame).");
+    t.number("density", &T::density, keys::kNonNegative,
+             "Mass density of the body: its mass is density x volume and its inertia tensor that of a uniform "
+             "solid (exact for a sphere, on a grid of ~100 cells along the longest side otherwise). 0 (the default) "
+             "means the fluid's mass density (the mobile species' masses over the box volume): a neutrally buoyant "
+             "body.");
+    t.number("repulsion", &T::repulsion, keys::kNonNegative,
+             "Contact repulsion: each of the body's particles within `repulsion_range` of its surface that comes "
+             "within `repulsion_range` of another body's surface or of a fixed wall is pushed out along that "
+             "surface's normal by repulsion x (1 - gap / repulsion_range), and the other body takes the opposite "
+             "force. 0: bodies pass through each other.")
+        .default_text("50");
+    t.number("repulsion_range", &T::repulsion_range, {0.0, 10.0, false, true},
+             "Gap at which the contact repulsion starts; also the depth of the body's surface shell whose "
+             "particles feel it.")
+        .default_text("0.5");
+    t.integer("output_every", &T::output_every, {0, 1000000000},
+              "Steps between this body's rows of bodies.csv (0: none).")
+        .default_text("100");
+    return t;
+  }();
+  return table;
+}
+
+void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec) {
+  if (list.empty()) return;
+  if (spec.models.count("lees_edwards"))
+    keys::fail("lees_edwards", "", "[[body]] rigid bodies do not work with Lees-Edwards shear yet (their particles are "
+               "placed with plain periodic images); shear a suspension between moving walls instead");
+  if (spec.walls.adaptive)
+    keys::fail("walls.adaptive", "true", "the adaptive wall force does not work with [[body]] rigid bodies yet");
+  if (spec.bond_subcycles > 1)
+    keys::fail("bonds.subcycles", std::to_string(spec.bond_subcycles), "[[body]] rigid bodies need bonds.subcycles = 1");
+  std::vector<std::string> used;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string key = fmt::format("body[{}]", k);
+    const BodySpec& b = list[k];
+    const auto it = std::find_if(spec.solids.begin(), spec.solids.end(), [&](const SolidSpec& s) { return s.name == b.solid; });
+    if (it == spec.solids.end()) keys::fail(key + ".solid", b.solid, "no [[solid]] has this name");
+    if (std::find(used.begin(), used.end(), b.solid) != used.end())
+      keys::fail(key + ".solid", b.solid, "another [[body]] already moves this solid");
+    used.push_back(b.solid);
+    mass_properties(it->shape, fmt::format("{}.solid ('{}')", key, b.solid));  // refuses unbounded shapes
+    const bool towed = b.motion == BodyMotion::Towed;
+    if (towed && (b.force != std::array<double, 3>{0, 0, 0} || b.torque != std::array<double, 3>{0, 0, 0}))
+      keys::fail(key + (b.force != std::array<double, 3>{0, 0, 0} ? ".force" : ".torque"), "",
+                 "a towed body moves as prescribed: an external force or torque would do nothing");
+  }
+}
+
+// bodies.csv: every body's state at the steps its output_every divides (root writes; the state is the same
+// on every rank).
+class BodyOutputStage final : public Stage {
+ public:
+  BodyOutputStage(const RigidBodies& bodies, const std::filesystem::path& dir, bool append, std::uint64_t start_step)
+      : bodies_(bodies) {
+    Comm::world().on_root([&] {
+      const auto csv = dir / "bodies.csv";
+      if (append && std::filesystem::exists(csv)) trim_csv_after_step(csv, start_step);
+      const bool resume = append && std::filesystem::exists(csv) && std::filesystem::file_size(csv) > 0;
+      file_.open(csv, resume ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
+      if (!resume)
+        file_ << "step,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz\n";
+      file_.flush();
+    });
+  }
+  void run(StepContext& ctx) override {
+    if (!ctx.comm.root()) return;
+    bool any = false;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      const std::uint64_t e = bodies_.spec(k).output_every;
+      if (e == 0 || ctx.step % e != 0) continue;
+      const BodyState& s = bodies_.state(k);
+      const Vec3 w = bodies_.omega(k);
+      file_ << fmt::format("{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
+                           "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
+                           ctx.step, k, s.x.x, s.x.y, s.x.z, s.q.w, s.q.x, s.q.y, s.q.z, s.v.x, s.v.y, s.v.z, w.x, w.y,
+                           w.z, s.f.x + s.f_bounce.x, s.f.y + s.f_bounce.y, s.f.z + s.f_bounce.z, s.t.x + s.t_bounce.x,
+                           s.t.y + s.t_bounce.y, s.t.z + s.t_bounce.z);
+      any = true;
+    }
+    if (any) file_.flush();
+  }
+
+ private:
+  const RigidBodies& bodies_;
+  OutputFile file_;
+};
+
+}  // namespace
+
+ModelSection body_section() {
+  return model_list_section(body_keys(), check_bodies, "solid = \"ball\"");
+}
+
+void install_bodies(Installation& in) {
+  const auto* list = in.spec.model<std::vector<BodySpec>>("body");
+  if (!list || list->empty()) return;
+  Simulation& sim = in.sim;
+  RigidBodies& bodies = in.components.add(
+      std::make_shared<RigidBodies>(*list, in.spec, sim.box(), in.spec.integrator == IntegratorKind::GrootWarren));
+  in.components.add(std::make_shared<ReleasedSolids>(ReleasedSolids{bodies.released()}));
+  if (!in.restarted) {
+    StepContext ctx = in.context();
+    bodies.attach(ctx);
+  }
+  in.stages.add(StagePoint::AfterFirstHalf, make_stage([&bodies](StepContext& ctx) { bodies.move(ctx); }));
+  in.stages.add(StagePoint::AfterSecondHalf, make_stage([&bodies](StepContext& ctx) { bodies.kick(ctx); }));
+  in.sections.push_back({"bodies", [&bodies](ByteWriter& w) { bodies.save(w); },
+                         [&bodies](ByteReader& r, const std::string& context) { bodies.load(r, context); }});
+  // Bounce-backs since the previous thermo row (as the walls' reflections), so a restart's rows are the
+  // same as the uninterrupted run's.
+  auto reported = std::make_shared<std::uint64_t>(0);
+  in.thermo_columns.push_back({"body_bounces", [&bodies, reported](const StepContext& ctx) {
+                                 std::uint64_t n[1] = {bodies.bounces() - *reported};
+                                 *reported = bodies.bounces();
+                                 if (ctx.comm.distributed()) ctx.comm.sum(std::span<std::uint64_t>(n, 1));
+                                 return static_cast<double>(n[0]);
+                               }});
+  in.summaries.push_back([&bodies](const StepContext& ctx) {
+    std::uint64_t n[1] = {bodies.bounces()};
+    if (ctx.comm.distributed()) ctx.comm.sum(std::span<std::uint64_t>(n, 1));
+    const std::uint64_t inside = bodies.inside(ctx);
+    std::string text = fmt::format("bodies: {} bounce-backs at the bodies' surfaces this run; {} fluid particles inside a "
+                                   "body at the end (target 0)\n",
+                                   n[0], inside);
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      const BodyState& s = bodies.state(k);
+      const Vec3 w = bodies.omega(k);
+      text += fmt::format("  body[{}] '{}': {} particles, mass {:.5g}, centre ({:.5g}, {:.5g}, {:.5g}), velocity ({:.4g}, {:.4g}, {:.4g}), "
+                          "angular velocity ({:.4g}, {:.4g}, {:.4g}), force ({:.4g}, {:.4g}, {:.4g})\n",
+                          k, bodies.name(k), bodies.particles(k), bodies.mass(k), s.x.x, s.x.y, s.x.z, s.v.x, s.v.y, s.v.z, w.x, w.y, w.z,
+                          s.f.x + s.f_bounce.x, s.f.y + s.f_bounce.y, s.f.z + s.f_bounce.z);
+    }
+    return ctx.comm.root() ? text : std::string();
+  });
+  if (!in.options.out_dir.empty() &&
+      std::any_of(list->begin(), list->end(), [](const BodySpec& b) { return b.output_every > 0; }))
+    in.stages.add(StagePoint::EndOfStep,
+                  std::make_unique<BodyOutputStage>(bodies, in.options.out_dir, in.restarted, in.context().step));
+}
+
+}  // namespace mesodpd

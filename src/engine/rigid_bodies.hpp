@@ -1,0 +1,171 @@
+// Moving rigid bodies made of frozen particles ([[body]], issue 26): a [[solid]] of a bounded shape
+// (sphere, box, or a union or difference of them) whose frozen particles move together as one rigid
+// body. Per body the state is a centre of mass, an orientation quaternion, a velocity and an angular
+// momentum; its force and torque are the pair forces on its particles (the fluid pushing on them), the
+// momentum the bounce-back of fluid particles at its surface gives it, an external force and torque, and
+// a short-range repulsion from the other bodies and from the fixed walls. The body is integrated by
+// velocity Verlet (half kick, drift, half kick) alongside the fluid's modified velocity-Verlet, the
+// rotation by a midpoint quaternion update at constant angular momentum (docs/physics.md, "Rigid
+// bodies"). The state is the same on every rank: each rank sums the forces on the particles it owns in
+// 2^32 fixed point and the sums are added over the ranks, so the result does not depend on thread or
+// rank count.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "boundary/geometry.hpp"
+#include "core/box.hpp"
+#include "core/stage.hpp"
+#include "core/vec3.hpp"
+#include "mesodpd/spec.hpp"
+
+namespace mesodpd {
+
+class ByteReader;
+class ByteWriter;
+
+// A unit quaternion w + x i + y j + z k: the rotation from the body frame to the lab frame.
+struct Quat {
+  double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+};
+Quat operator*(const Quat& a, const Quat& b);
+Vec3 rotate(const Quat& q, const Vec3& v);       // R(q) v
+Vec3 rotate_back(const Quat& q, const Vec3& v);  // R(q)^T v
+// q turned further by the angle |omega| t about the lab-frame axis omega: exp(t omega / 2) q, normalised.
+Quat turned(const Quat& q, const Vec3& omega, double t);
+Vec3 cross(const Vec3& a, const Vec3& b);
+// The angular velocity R I^-1 R^T l of a body of orientation q, angular momentum l (lab frame) and inverse
+// inertia tensor `inertia_inverse` (body frame, row-major).
+Vec3 angular_velocity(const Quat& q, const Vec3& l, const std::array<double, 9>& inertia_inverse);
+// The orientation after dt of free rotation at constant angular momentum l: turned at the angular
+// velocity of the midpoint orientation (second order in dt; exact for a sphere).
+Quat turn_free(const Quat& q, const Vec3& l, const std::array<double, 9>& inertia_inverse, double dt);
+
+enum class BodyMotion { Free, Towed };
+
+// One [[body]] block (engine/install_bodies.cpp has its keys).
+struct BodySpec {
+  std::string solid;                                // the [[solid]] that moves
+  BodyMotion motion = BodyMotion::Free;             // free, or towed at velocity / angular_velocity
+  std::array<double, 3> velocity{0, 0, 0};          // start (free) or prescribed (towed)
+  std::array<double, 3> angular_velocity{0, 0, 0};  // start (free) or prescribed (towed), lab frame
+  std::array<double, 3> force{0, 0, 0};             // external force on a free body
+  std::array<double, 3> torque{0, 0, 0};            // external torque on a free body
+  double density = 0.0;                             // mass density (0: the fluid's)
+  double repulsion = 50.0;                          // contact force per surface point at zero gap
+  double repulsion_range = 0.5;                     // gap at which the contact force vanishes
+  std::uint64_t output_every = 100;                 // rows of bodies.csv (0: none)
+};
+
+// Volume, centre and inertia tensor (about the centre, per unit density; xx, xy, xz, yx, ..., zz) of a
+// bounded shape, and the radius of the smallest sphere about the centre that holds it. Spheres exactly,
+// other shapes on a grid of about 100 cells along the longest side. Throws ConfigError naming `key` for
+// an unbounded shape (plane, cylinder, pillars, image) or an empty one.
+struct MassProperties {
+  double volume = 0.0;
+  Vec3 center;
+  std::array<double, 9> inertia{};
+  double radius = 0.0;
+};
+MassProperties mass_properties(const ShapeSpec& shape, const std::string& key);
+
+struct BodyState {
+  Vec3 x;     // centre of mass, unwrapped (continuous across periodic faces)
+  Quat q;     // orientation: body frame to lab frame (the identity at the start)
+  Vec3 v;     // velocity of the centre of mass
+  Vec3 l;     // angular momentum about the centre of mass, lab frame
+  Vec3 f, t;  // force and torque of the last force evaluation (pair forces, external, contacts)
+  // The bounce-backs' momentum and angular momentum of this step over dt (given to a free body at once,
+  // so not in the kicks): the force on the body is f + f_bounce.
+  Vec3 f_bounce, t_bounce;
+};
+
+class RigidBodies {
+ public:
+  // `bodies`: the [[body]] blocks, checked (each names a frozen [[solid]] of a bounded shape, none twice).
+  // `half_velocity` as Walls's (modified velocity-Verlet keeps the physical velocity in p.h).
+  RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spec, const Box& box, bool half_velocity);
+
+  // The solids moved here (by solid index): ReleasedSolids for the walls.
+  std::vector<std::uint8_t> released() const;
+
+  // New run (collective): each body particle's offset from its body's centre, from the particles' initial
+  // positions; the particles' start velocities; refusals of bodies that overlap each other or a fixed
+  // wall, or that hold no particle.
+  void attach(StepContext& ctx);
+  // AfterFirstHalf (collective): half kick with the last force, drift and turn, bounce-back of the fluid
+  // particles found inside a body (their momentum change goes to the body), then the body particles'
+  // positions and velocities.
+  void move(StepContext& ctx);
+  // AfterSecondHalf (collective): the new force and torque, the second half kick, the particles'
+  // velocities.
+  void kick(StepContext& ctx);
+
+  // Mobile local particles inside some body now, summed over ranks (collective; 0 after every move).
+  std::uint64_t inside(const StepContext& ctx) const;
+  // Bounce-backs since the start of this run (this rank).
+  std::uint64_t bounces() const { return bounces_; }
+
+  std::size_t size() const { return specs_.size(); }
+  const BodySpec& spec(std::size_t k) const { return specs_[k]; }
+  const BodyState& state(std::size_t k) const { return state_[k]; }
+  const std::string& name(std::size_t k) const { return names_[k]; }
+  double mass(std::size_t k) const { return mass_[k]; }
+  // The frozen particles of body k.
+  std::size_t particles(std::size_t k) const {
+    return static_cast<std::size_t>(std::count(owner_.begin(), owner_.end(), static_cast<std::int32_t>(k)));
+  }
+  // Angular velocity of body k now (lab frame).
+  Vec3 omega(std::size_t k) const { return omega_at(k, state_[k].q); }
+  // Inertia tensor of body k in the lab frame now (row-major).
+  std::array<double, 9> inertia(std::size_t k) const;
+
+  // Checkpoint part: the states and the particles' offsets (the same on every rank; load on every rank).
+  void save(ByteWriter& w) const;
+  void load(ByteReader& r, const std::string& context);
+
+ private:
+  Vec3 omega_at(std::size_t k, const Quat& q) const;
+  double body_sdf(std::size_t k, const Vec3& b) const { return shapes_[k]->sdf(origin_[k] + b); }
+  Vec3 body_normal(std::size_t k, const Vec3& b) const { return shapes_[k]->normal(origin_[k] + b); }
+  Vec3 wrapped_center(std::size_t k) const;
+  Vec3 displacement(const Vec3& a, const Vec3& b) const;  // a - b at the nearest image
+  // Index into ids_ of the body particle `id` (its offset and body), or -1.
+  long find(std::uint32_t id) const;
+  void compute_forces(const StepContext& ctx);
+  void add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const;
+  void bounce(StepContext& ctx);
+  void place(StepContext& ctx, bool positions);
+  void index_points();
+  void check_box(std::uint64_t step) const;
+
+  std::vector<BodySpec> specs_;
+  std::vector<std::string> names_;
+  std::vector<int> solid_of_;   // per body: its solid index
+  std::vector<int> body_of_;    // per solid: its body, or -1
+  std::vector<std::unique_ptr<Shape>> shapes_;  // per body, in the original lab frame (no images)
+  std::vector<Vec3> origin_;    // per body: the centre of mass at the start, lab frame
+  std::vector<double> mass_, radius_;
+  std::vector<std::array<double, 9>> inertia_inverse_;  // body frame
+  std::vector<std::array<double, 9>> inertia_body_;
+  std::vector<BodyState> state_;
+  Box box_;
+  bool half_velocity_;
+  std::vector<std::uint8_t> frozen_;
+  std::vector<double> species_mass_;
+  Geometry walls_;  // the fixed solids (the moving ones left out)
+  // The body particles by id (sorted): their body and offset (body frame).
+  std::vector<std::uint32_t> ids_;
+  std::vector<std::int32_t> owner_;
+  std::vector<Vec3> offset_;
+  std::vector<std::vector<Vec3>> points_;  // per body: the offsets within repulsion_range of its surface
+  bool ready_ = false;          // offsets known (attach() or load())
+  bool forces_known_ = false;   // state_.f, t hold the last force evaluation's
+  std::uint64_t bounces_ = 0;
+};
+
+}  // namespace mesodpd
