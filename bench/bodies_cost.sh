@@ -54,13 +54,14 @@ PY
 run() {  # prints "particles seconds" of one run
   "$build/mesodpd" run "$1" --out "$work/out" --threads "$threads" 2>/dev/null |
     sed -n -e 's/^mesodpd [^:]*: \([0-9]*\) particles.*/\1/p' -e 's/^done: [0-9]* steps in \([0-9.e+]*\) s.*/\1/p' | tr '\n' ' '
+  echo
 }
 echo "# $steps steps, $threads thread(s); M particle-steps/s of bodies, fixed, fluid; cost vs fluid; bodies vs fixed"
 for rep in $(seq 1 "$reps"); do
   read -r nb tb < <(run "$work/bodies.toml")
   read -r nf tf < <(run "$work/fixed.toml")
   read -r nl tl < <(run "$work/fluid.toml")
-  awk -v nb="$nb" -v tb="$tb" -v nf="$nf" -v tf="$tf" -v nl="$nl" -v tl="$tl" -v s="$steps" 'BEGIN {
-    printf "%d  %.3g %.3g %.3g  bodies %+.1f%% fixed %+.1f%%  bodies/fixed %+.1f%%  (N = %d, %d, %d)\n", ENVIRON["rep"] + 0,
+  awk -v rep="$rep" -v nb="$nb" -v tb="$tb" -v nf="$nf" -v tf="$tf" -v nl="$nl" -v tl="$tl" -v s="$steps" 'BEGIN {
+    printf "%d  %.3g %.3g %.3g  bodies %+.1f%% fixed %+.1f%%  bodies/fixed %+.1f%%  (N = %d, %d, %d)\n", rep,
       nb * s / tb / 1e6, nf * s / tf / 1e6, nl * s / tl / 1e6, 100 * (tb / tl - 1), 100 * (tf / tl - 1), 100 * (tb / tf - 1), nb, nf, nl }'
 done

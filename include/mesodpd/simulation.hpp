@@ -112,6 +112,17 @@ struct Fields {
   std::vector<double> temperature;      // mean of the three components' temperatures
 };
 
+// One [[body]] rigid body now (docs/physics.md, "Rigid bodies of frozen particles").
+struct Body {
+  std::string solid;                             // the [[solid]] it moves
+  double mass = 0;
+  std::size_t particles = 0;                     // its frozen particles
+  std::array<double, 3> position{};              // centre of mass, unwrapped
+  std::array<double, 4> orientation{1, 0, 0, 0};  // unit quaternion w, x, y, z: body frame to lab frame
+  std::array<double, 3> velocity{}, angular_velocity{};
+  std::array<double, 3> force{}, torque{};       // of this step: pair forces, bounce-backs, external, contacts
+};
+
 class Simulation {
  public:
   // Validates `spec` (validate(); throws SpecError naming the key) and builds the initial state with
@@ -167,6 +178,8 @@ class Simulation {
   std::optional<Msd> msd() const;
   // The [analysis.fields] grids, in spec order (empty without them or without measurement).
   std::vector<Fields> fields() const;
+  // The [[body]] rigid bodies in block order (empty without them); the same on every rank.
+  std::vector<Body> bodies() const;
 
  private:
   struct Impl;

@@ -309,6 +309,14 @@ class Simulation:
         (D from the slope; NaN with too few points); None if not configured."""
         return self._core.msd()
 
+    def bodies(self):
+        """The [[body]] rigid bodies now, in block order: a list of dicts with solid (the [[solid]] name),
+        mass, particles (its frozen particles), and arrays position (centre of mass, unwrapped),
+        orientation (unit quaternion w, x, y, z), velocity, angular_velocity, force and torque (of the
+        last step: pair forces, bounce-backs, external force, contacts). Empty without bodies; the same
+        on every rank."""
+        return self._core.bodies()
+
     def fields(self):
         """The [analysis.fields] grids averaged so far: a dict name -> dict with bins (nx, ny, nz), samples,
         and arrays of shape (nx, ny, nz): x, y, z (cell centres), density (selected species, per volume),

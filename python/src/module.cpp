@@ -528,6 +528,24 @@ PYBIND11_MODULE(_core, m) {
              }
              return out;
            })
+      .def("bodies",
+           [](const PySimulation& s) {
+             py::list out;
+             for (const api::Body& b : s.sim.bodies()) {
+               py::dict d;
+               d["solid"] = b.solid;
+               d["mass"] = b.mass;
+               d["particles"] = b.particles;
+               d["position"] = copy(std::vector<double>(b.position.begin(), b.position.end()));
+               d["orientation"] = copy(std::vector<double>(b.orientation.begin(), b.orientation.end()));
+               d["velocity"] = copy(std::vector<double>(b.velocity.begin(), b.velocity.end()));
+               d["angular_velocity"] = copy(std::vector<double>(b.angular_velocity.begin(), b.angular_velocity.end()));
+               d["force"] = copy(std::vector<double>(b.force.begin(), b.force.end()));
+               d["torque"] = copy(std::vector<double>(b.torque.begin(), b.torque.end()));
+               out.append(d);
+             }
+             return out;
+           })
       .def("msd", [](const PySimulation& s) -> py::object {
         const auto g = s.sim.msd();
         if (!g) return py::none();

@@ -265,3 +265,46 @@ def test_spins_of_single_particle_dpd_are_an_n_by_3_array():
     assert np.mean(sim.particles.angular_velocity[s] ** 2) > 1.0
     with pytest.raises(KeyError):
         mesodpd.Simulation.from_string(TDPD).particles.angular_velocity
+
+
+BODY = """
+[system]
+box = [10, 10, 10]
+seed = 3
+[[species]]
+name = "S"
+density = 3
+[[species]]
+name = "W"
+frozen = true
+[[solid]]
+name = "ball"
+species = "W"
+shape = "sphere"
+center = [5, 5, 5]
+radius = 1.5
+[[body]]
+solid = "ball"
+motion = "towed"
+velocity = [0.5, 0, 0]
+angular_velocity = [0, 0, 1.0]
+[integrator]
+dt = 0.02
+[run]
+steps = 50
+[output]
+progress = false
+"""
+
+
+def test_rigid_bodies_are_read_as_arrays():
+    sim = mesodpd.Simulation.from_string(BODY)
+    sim.step(50)
+    (b,) = sim.bodies()
+    assert b["solid"] == "ball" and b["particles"] > 0
+    assert abs(b["mass"] - 3.0 * 4.0 / 3.0 * np.pi * 1.5 ** 3) < 1e-9
+    # Towed: 50 steps of 0.02 at 0.5 along x, turned by 1 radian about z.
+    assert np.allclose(b["position"], [5.5, 5.0, 5.0], atol=1e-9)
+    assert np.allclose(b["orientation"], [np.cos(0.5), 0, 0, np.sin(0.5)], atol=1e-9)
+    assert b["force"].shape == (3,) and np.all(np.isfinite(b["torque"]))
+    assert mesodpd.Simulation.from_string(SPDPD).bodies() == []

@@ -44,6 +44,7 @@ WallDrag::WallDrag(const SimulationSpec& spec, const Walls& walls, std::filesyst
 void WallDrag::run(StepContext& ctx) {
   const WallsSpec& w = spec_.walls;
   if (ctx.step <= w.drag_start || ctx.step % w.drag_every != 0) return;
+  if (walls_.geometry().empty()) return;  // every solid moved by a model (rigid bodies report their own forces)
   const ParticleData& p = ctx.particles;
   const std::size_t nb = walls_.geometry().bodies();
   // Per body three force sums (the walls' own, then the pair forces on its frozen particles), then the

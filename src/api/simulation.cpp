@@ -7,6 +7,7 @@
 #include <string>
 
 #include "analysis/observers.hpp"
+#include "engine/rigid_bodies.hpp"
 #include "engine/simulation.hpp"
 #include "io/byte_buffer.hpp"
 #include "parallel/halo.hpp"
@@ -284,6 +285,28 @@ std::optional<Msd> Simulation::msd() const {
         m.diffusion = r.get<double>();
         return m;
       });
+}
+
+std::vector<Body> Simulation::bodies() const {
+  std::vector<Body> out;
+  const RigidBodies* rb = impl_->engine.component<RigidBodies>();
+  if (!rb) return out;
+  for (std::size_t k = 0; k < rb->size(); ++k) {
+    const BodyState& s = rb->state(k);
+    const Vec3 w = rb->omega(k), f = s.f + s.f_bounce, t = s.t + s.t_bounce;
+    Body b;
+    b.solid = rb->name(k);
+    b.mass = rb->mass(k);
+    b.particles = rb->particles(k);
+    b.position = {s.x.x, s.x.y, s.x.z};
+    b.orientation = {s.q.w, s.q.x, s.q.y, s.q.z};
+    b.velocity = {s.v.x, s.v.y, s.v.z};
+    b.angular_velocity = {w.x, w.y, w.z};
+    b.force = {f.x, f.y, f.z};
+    b.torque = {t.x, t.y, t.z};
+    out.push_back(std::move(b));
+  }
+  return out;
 }
 
 void Simulation::write_checkpoint(const std::filesystem::path& file) const { impl_->engine.write_checkpoint(file); }

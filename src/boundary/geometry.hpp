@@ -41,7 +41,12 @@ class Geometry {
   // `released[k]` != 0 leaves solid k out (a solid another model moves, boundary/rigid_bodies.hpp): its
   // index stays, but sdf() never returns it. Empty: every solid.
   Geometry(const std::vector<SolidSpec>& solids, const Box& box, const std::vector<std::uint8_t>& released = {});
-  bool empty() const { return shapes_.empty(); }
+  // No solid to act on (none, or every one released).
+  bool empty() const {
+    for (const auto& s : shapes_)
+      if (s) return false;
+    return true;
+  }
   std::size_t bodies() const { return shapes_.size(); }
   // Signed distance to the nearest solid (+infinity without solids); `body` gets its index.
   double sdf(const Vec3& p) const {

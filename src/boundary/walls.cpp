@@ -275,6 +275,7 @@ void Walls::for_near_wall(StepContext& ctx, double below, double skip_at, Far&& 
 
 void Walls::mirror_positions(StepContext& ctx) {
   std::fill(impulse_.begin(), impulse_.end(), 0);
+  if (geometry_.empty()) return;  // every solid released to a model that moves it
   ParticleData& p = ctx.particles;
   const Box& box = ctx.box;
   counted_ = {0, 0};
@@ -329,7 +330,7 @@ void Walls::mirror_positions(StepContext& ctx) {
 }
 
 void Walls::reflect_velocities(StepContext& ctx) {
-  if (spec_.walls.reflection == ReflectionKind::None) return;
+  if (spec_.walls.reflection == ReflectionKind::None || geometry_.empty()) return;  // empty: every solid released
   ParticleData& p = ctx.particles;
   const double dt = ctx.dt;
   // The next position update moves a particle by dt v + (dt^2 / 2) f / m (modified velocity-Verlet) or

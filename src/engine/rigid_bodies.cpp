@@ -24,17 +24,6 @@ Quat operator*(const Quat& a, const Quat& b) {
           a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
-Vec3 cross(const Vec3& a, const Vec3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
-Vec3 rotate(const Quat& q, const Vec3& v) {
-  // v + 2 w (u x v) + 2 u x (u x v), u the vector part.
-  const Vec3 u{q.x, q.y, q.z};
-  const Vec3 c = cross(u, v);
-  return v + (2.0 * q.w) * c + 2.0 * cross(u, c);
-}
-
-Vec3 rotate_back(const Quat& q, const Vec3& v) { return rotate(Quat{q.w, -q.x, -q.y, -q.z}, v); }
-
 Quat turned(const Quat& q, const Vec3& omega, double t) {
   const double w = std::sqrt(dot(omega, omega));
   if (w * t == 0.0) return q;
@@ -271,9 +260,17 @@ Vec3 RigidBodies::displacement(const Vec3& a, const Vec3& b) const {
           minimum_image(a.z - b.z, box_.image_len(2), box_.half_image_len(2))};
 }
 
-long RigidBodies::find(std::uint32_t id) const {
-  const auto it = std::lower_bound(ids_.begin(), ids_.end(), id);
-  return it != ids_.end() && *it == id ? static_cast<long>(it - ids_.begin()) : -1;
+long RigidBodies::find(std::uint32_t id) const { return id < index_of_id_.size() ? index_of_id_[id] : -1; }
+
+const std::vector<std::int32_t>& RigidBodies::slots(const ParticleData& p) {
+  if (slot_generation_ != p.generation() || slot_count_ != p.n_local || slot_.size() != p.n_local) {
+    slot_.resize(p.n_local);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < p.n_local; ++i) slot_[i] = p.body[i] > 0 ? static_cast<std::int32_t>(find(p.id[i])) : -1;
+    slot_generation_ = p.generation();
+    slot_count_ = p.n_local;
+  }
+  return slot_;
 }
 
 void RigidBodies::attach(StepContext& ctx) {
@@ -354,6 +351,9 @@ void RigidBodies::attach(StepContext& ctx) {
 }
 
 void RigidBodies::index_points() {
+  // The table from id to index (ids up to the largest body particle's: 4 bytes each).
+  index_of_id_.assign(ids_.empty() ? 0 : static_cast<std::size_t>(ids_.back()) + 1, -1);
+  for (std::size_t n = 0; n < ids_.size(); ++n) index_of_id_[ids_[n]] = static_cast<std::int32_t>(n);
   points_.assign(specs_.size(), {});
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const std::size_t k = static_cast<std::size_t>(owner_[n]);
@@ -430,9 +430,9 @@ void RigidBodies::compute_forces(const StepContext& ctx) {
   // Force and torque of the pair forces on this rank's body particles, in 2^32 fixed point (the sum is
   // exact whatever the order, so it is the same on any thread or rank count).
   std::vector<std::int64_t> sums(6 * nb, 0);
+  const std::vector<std::int32_t>& slot = slots(p);
   for (std::size_t i = 0; i < p.n_local; ++i) {
-    if (p.body[i] <= 0) continue;
-    const long n = find(p.id[i]);
+    const std::int32_t n = slot[i];
     if (n < 0) continue;
     const std::size_t k = static_cast<std::size_t>(owner_[static_cast<std::size_t>(n)]);
     const Vec3 f{p.fx[i], p.fy[i], p.fz[i]};
@@ -463,10 +463,10 @@ void RigidBodies::place(StepContext& ctx, bool positions) {
   const std::size_t n = p.n_local;
   std::vector<Vec3> omega(specs_.size());
   for (std::size_t k = 0; k < specs_.size(); ++k) omega[k] = omega_at(k, state_[k].q);
+  const std::vector<std::int32_t>& slot = slots(p);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    if (p.body[i] <= 0) continue;
-    const long at = find(p.id[i]);
+    const std::int32_t at = slot[i];
     if (at < 0) continue;
     const std::size_t k = static_cast<std::size_t>(owner_[static_cast<std::size_t>(at)]);
     const BodyState& s = state_[k];
@@ -701,12 +701,14 @@ void RigidBodies::kick(StepContext& ctx) {
 
 std::uint64_t RigidBodies::inside(const StepContext& ctx) const {
   const ParticleData& p = ctx.particles;
+  std::vector<Vec3> center(specs_.size());
+  for (std::size_t k = 0; k < specs_.size(); ++k) center[k] = wrapped_center(k);
   std::uint64_t count = 0;
   for (std::size_t i = 0; i < p.n_local; ++i) {
     if (p.body[i] != 0 || frozen_[static_cast<std::size_t>(p.species[i])]) continue;
     const Vec3 r{p.x[i], p.y[i], p.z[i]};
     for (std::size_t k = 0; k < specs_.size(); ++k) {
-      const Vec3 d = displacement(r, wrapped_center(k));
+      const Vec3 d = displacement(r, center[k]);
       if (dot(d, d) < radius_[k] * radius_[k] && body_sdf(k, rotate_back(state_[k].q, d)) < 0) {
         ++count;
         break;

@@ -33,11 +33,19 @@ struct Quat {
   double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
 };
 Quat operator*(const Quat& a, const Quat& b);
-Vec3 rotate(const Quat& q, const Vec3& v);       // R(q) v
-Vec3 rotate_back(const Quat& q, const Vec3& v);  // R(q)^T v
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+// R(q) v, as v + 2 w (u x v) + 2 u x (u x v) with u the vector part.
+inline Vec3 rotate(const Quat& q, const Vec3& v) {
+  const Vec3 u{q.x, q.y, q.z};
+  const Vec3 c = cross(u, v);
+  return v + (2.0 * q.w) * c + 2.0 * cross(u, c);
+}
+// R(q)^T v.
+inline Vec3 rotate_back(const Quat& q, const Vec3& v) { return rotate(Quat{q.w, -q.x, -q.y, -q.z}, v); }
 // q turned further by the angle |omega| t about the lab-frame axis omega: exp(t omega / 2) q, normalised.
 Quat turned(const Quat& q, const Vec3& omega, double t);
-Vec3 cross(const Vec3& a, const Vec3& b);
 // The angular velocity R I^-1 R^T l of a body of orientation q, angular momentum l (lab frame) and inverse
 // inertia tensor `inertia_inverse` (body frame, row-major).
 Vec3 angular_velocity(const Quat& q, const Vec3& l, const std::array<double, 9>& inertia_inverse);
@@ -134,8 +142,10 @@ class RigidBodies {
   Vec3 body_normal(std::size_t k, const Vec3& b) const { return shapes_[k]->normal(origin_[k] + b); }
   Vec3 wrapped_center(std::size_t k) const;
   Vec3 displacement(const Vec3& a, const Vec3& b) const;  // a - b at the nearest image
-  // Index into ids_ of the body particle `id` (its offset and body), or -1.
+  // Index into ids_ of the body particle `id` (its offset and body), or -1 (ids_ is sorted).
   long find(std::uint32_t id) const;
+  // find() of every local particle, kept for the storage order it was made for (ParticleData::generation).
+  const std::vector<std::int32_t>& slots(const ParticleData& p);
   void compute_forces(const StepContext& ctx);
   void add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const;
   void bounce(StepContext& ctx);
@@ -163,6 +173,10 @@ class RigidBodies {
   std::vector<std::int32_t> owner_;
   std::vector<Vec3> offset_;
   std::vector<std::vector<Vec3>> points_;  // per body: the offsets within repulsion_range of its surface
+  std::vector<std::int32_t> index_of_id_;  // find(): by id up to the largest body particle's, -1 elsewhere
+  std::vector<std::int32_t> slot_;         // slots(): per local particle
+  std::uint64_t slot_generation_ = 0;
+  std::size_t slot_count_ = 0;
   bool ready_ = false;          // offsets known (attach() or load())
   bool forces_known_ = false;   // state_.f, t hold the last force evaluation's
   std::uint64_t bounces_ = 0;
