@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Brownian motion of a free rigid sphere of frozen particles ([[body]]): its translational and
-rotational diffusion against Stokes-Einstein with the hydrodynamic radius of the towed and turned sphere
-(towed.py, docs/validation.md section 15: a = 1.90 in the same fluid and box).
+rotational diffusion against Stokes-Einstein with the hydrodynamic radii of the towed and turned sphere
+(towed.py's long runs, docs/validation.md section 15: a_t = 2.00, a_r = 1.91 in the same fluid and box).
 
 One neutrally buoyant sphere of radius 2 in the 16^3 box of towed.toml (no towing, no body force),
 run with --seeds seeds side by side. From bodies.csv (the unwrapped centre and the angular velocity
@@ -75,7 +75,8 @@ def main():
     ap.add_argument("--fit", default="10,40", help="MSD fit range in time units")
     ap.add_argument("--tmax", type=float, default=10.0, help="upper limit of the spin autocorrelation integral")
     ap.add_argument("--eta", type=float, default=0.8674)
-    ap.add_argument("--a", type=float, default=1.90, help="the towed and turned sphere's radius (towed.py)")
+    ap.add_argument("--a-t", type=float, default=2.00, help="the towed sphere's radius (towed.py, long runs)")
+    ap.add_argument("--a-r", type=float, default=1.91, help="the turned sphere's radius (towed.py, long runs)")
     ap.add_argument("--analyse", action="store_true")
     args = ap.parse_args()
     base = open(os.path.join(HERE, "towed.toml")).read()
@@ -118,14 +119,16 @@ def main():
     a_t_e = a_t * a_t * 6 * math.pi * args.eta * dt_e
     a_r = (1.0 / (8 * math.pi * args.eta * dr_m)) ** (1.0 / 3.0)
     a_r_e = a_r * dr_e / (3 * dr_m)
-    expect_t = 1.0 / (6 * math.pi * args.eta * args.a) * (1 - 2.837 * args.a / box)
-    expect_r = 1.0 / (8 * math.pi * args.eta * args.a ** 3)
+    expect_t = 1.0 / (6 * math.pi * args.eta * args.a_t) * (1 - 2.837 * args.a_t / box)
+    expect_r = 1.0 / (8 * math.pi * args.eta * args.a_r ** 3)
     result = {"D_t": dt_m, "D_t_err": dt_e, "D_t_expected": expect_t, "D_r": dr_m, "D_r_err": dr_e, "D_r_expected": expect_r,
               "a_t": a_t, "a_t_err": a_t_e, "a_r": a_r, "a_r_err": a_r_e, "pieces": len(dts)}
     with open(os.path.join(args.out, "brownian_body.json"), "w") as f:
         json.dump(result, f, indent=2)
-    print(f"D_t = {dt_m:.5f} +- {dt_e:.5f} (Stokes-Einstein with a = {args.a}, Hasimoto: {expect_t:.5f}); a_t = {a_t:.3f} +- {a_t_e:.3f}")
-    print(f"D_r = {dr_m:.5f} +- {dr_e:.5f} (kT / (8 pi eta a^3): {expect_r:.5f}); a_r = {a_r:.3f} +- {a_r_e:.3f}")
+    print(f"D_t = {dt_m:.5f} +- {dt_e:.5f} (Stokes-Einstein with the towed a = {args.a_t}, Hasimoto: {expect_t:.5f}); "
+          f"a_t = {a_t:.3f} +- {a_t_e:.3f}")
+    print(f"D_r = {dr_m:.5f} +- {dr_e:.5f} (kT / (8 pi eta a^3) with the turned a = {args.a_r}: {expect_r:.5f}); "
+          f"a_r = {a_r:.3f} +- {a_r_e:.3f}")
 
 
 if __name__ == "__main__":
