@@ -297,8 +297,9 @@ progress = false
 """
 
 
-def test_rigid_bodies_are_read_as_arrays():
-    sim = mesodpd.Simulation.from_string(BODY)
+def test_rigid_bodies_are_read_as_arrays(tmp_path):
+    sim = mesodpd.Simulation.from_string(BODY.replace('velocity = [0.5, 0, 0]', 'velocity = [0.5, 0, 0]\noutput_every = 10'),
+                                         out=tmp_path)
     sim.step(50)
     (b,) = sim.bodies()
     assert b["solid"] == "ball" and b["particles"] > 0
@@ -308,3 +309,10 @@ def test_rigid_bodies_are_read_as_arrays():
     assert np.allclose(b["orientation"], [np.cos(0.5), 0, 0, np.sin(0.5)], atol=1e-9)
     assert b["force"].shape == (3,) and np.all(np.isfinite(b["torque"]))
     assert mesodpd.Simulation.from_string(SPDPD).bodies() == []
+    # bodies.gsd: one particle per body, with its orientation, so OVITO draws it turned.
+    gsd_hoomd = pytest.importorskip("gsd.hoomd")
+    with gsd_hoomd.open(str(tmp_path / "bodies.gsd")) as t:
+        frame = t[-1]
+        assert frame.configuration.step == 50 and frame.particles.N == 1
+        assert np.allclose(frame.particles.orientation[0], b["orientation"], atol=1e-6)
+        assert np.allclose(frame.particles.position[0], np.array(b["position"]) - 5.0, atol=1e-5)

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -19,6 +20,8 @@
 #include "engine/rigid_bodies.hpp"
 #include "engine/simulation.hpp"
 #include "io/byte_buffer.hpp"
+#include "io/frame.hpp"
+#include "io/gsd_writer.hpp"
 #include "io/output_file.hpp"
 #include "mesodpd/config_error.hpp"
 #include "mesodpd/key_table.hpp"
@@ -101,13 +104,19 @@ void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec)
   }
 }
 
-// bodies.csv: every body's state at the steps its output_every divides (root writes; the state is the same
+// bodies.csv: every body's state at the steps its output_every divides; bodies.gsd: all bodies at those
+// steps, one particle per body (typed by its solid's name) with its centre, velocity, image, orientation
+// and the diameter of its bounding sphere, so OVITO draws them (root writes both; the state is the same
 // on every rank).
 class BodyOutputStage final : public Stage {
  public:
-  BodyOutputStage(const RigidBodies& bodies, const std::filesystem::path& dir, bool append, std::uint64_t start_step)
-      : bodies_(bodies) {
+  BodyOutputStage(const RigidBodies& bodies, const std::filesystem::path& dir, bool append, std::uint64_t start_step,
+                  const Box& box)
+      : bodies_(bodies), box_(box) {
+    for (std::size_t k = 0; k < bodies_.size(); ++k) names_.push_back(bodies_.name(k));
     Comm::world().on_root([&] {
+      gsd_.emplace(dir / "bodies.gsd", std::vector<std::string>{"id", "species", "position", "velocity", "image"}, append,
+                   append ? std::optional<std::uint64_t>(start_step) : std::nullopt);
       const auto csv = dir / "bodies.csv";
       if (append && std::filesystem::exists(csv)) trim_csv_after_step(csv, start_step);
       const bool resume = append && std::filesystem::exists(csv) && std::filesystem::file_size(csv) > 0;
@@ -132,12 +141,57 @@ class BodyOutputStage final : public Stage {
                            s.t.y + s.t_bounce.y, s.t.z + s.t_bounce.z);
       any = true;
     }
-    if (any) file_.flush();
+    if (!any) return;
+    file_.flush();
+    const std::size_t n = bodies_.size();
+    std::vector<std::uint32_t> id(n);
+    std::vector<std::int32_t> type(n), image(3 * n);
+    std::vector<double> r(3 * n), v(3 * n), q(4 * n), diameter(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const BodyState& s = bodies_.state(k);
+      id[k] = static_cast<std::uint32_t>(k);
+      type[k] = static_cast<std::int32_t>(k);
+      const double c[3] = {s.x.x, s.x.y, s.x.z}, u[3] = {s.v.x, s.v.y, s.v.z};
+      for (int a = 0; a < 3; ++a) {
+        double x = c[a];
+        std::int32_t img = 0;
+        if (box_.periodic[static_cast<std::size_t>(a)]) wrap_coordinate(x, img, box_.length(a));
+        r[static_cast<std::size_t>(a) * n + k] = x;
+        image[static_cast<std::size_t>(a) * n + k] = img;
+        v[static_cast<std::size_t>(a) * n + k] = u[a];
+      }
+      const double w[4] = {s.q.w, s.q.x, s.q.y, s.q.z};
+      for (std::size_t c4 = 0; c4 < 4; ++c4) q[4 * k + c4] = w[c4];
+      diameter[k] = 2.0 * bodies_.radius(k);
+    }
+    FrameView f;
+    f.step = ctx.step;
+    f.box_len = {box_.len.x, box_.len.y, box_.len.z};
+    f.periodic = box_.periodic;
+    f.n = n;
+    f.id = id.data();
+    f.species = type.data();
+    f.species_names = &names_;
+    f.x = r.data();
+    f.y = r.data() + n;
+    f.z = r.data() + 2 * n;
+    f.vx = v.data();
+    f.vy = v.data() + n;
+    f.vz = v.data() + 2 * n;
+    f.ix = image.data();
+    f.iy = image.data() + n;
+    f.iz = image.data() + 2 * n;
+    f.orientation = q.data();
+    f.diameter = diameter.data();
+    gsd_->write_frame(f);
   }
 
  private:
   const RigidBodies& bodies_;
+  Box box_;
+  std::vector<std::string> names_;
   OutputFile file_;
+  std::optional<GsdWriter> gsd_;
 };
 
 }  // namespace
@@ -190,7 +244,7 @@ void install_bodies(Installation& in) {
   if (!in.options.out_dir.empty() &&
       std::any_of(list->begin(), list->end(), [](const BodySpec& b) { return b.output_every > 0; }))
     in.stages.add(StagePoint::EndOfStep,
-                  std::make_unique<BodyOutputStage>(bodies, in.options.out_dir, in.restarted, in.context().step));
+                  std::make_unique<BodyOutputStage>(bodies, in.options.out_dir, in.restarted, in.context().step, sim.box()));
 }
 
 }  // namespace mesodpd

@@ -123,6 +123,8 @@ class RigidBodies {
   const BodyState& state(std::size_t k) const { return state_[k]; }
   const std::string& name(std::size_t k) const { return names_[k]; }
   double mass(std::size_t k) const { return mass_[k]; }
+  // The radius of the smallest sphere about body k's centre that holds its shape.
+  double radius(std::size_t k) const { return radius_[k]; }
   // The frozen particles of body k.
   std::size_t particles(std::size_t k) const {
     return static_cast<std::size_t>(std::count(owner_.begin(), owner_.end(), static_cast<std::int32_t>(k)));

@@ -29,6 +29,10 @@ struct FrameView {
   const double *vx = nullptr, *vy = nullptr, *vz = nullptr;
   const double *fx = nullptr, *fy = nullptr, *fz = nullptr;
   const std::int32_t *ix = nullptr, *iy = nullptr, *iz = nullptr;  // periodic image counters
+  // Rigid bodies' orientations, 4 per particle (unit quaternion w, x, y, z), and diameters: the GSD
+  // writer adds particles/orientation and particles/diameter when set (whatever the field selection).
+  const double* orientation = nullptr;
+  const double* diameter = nullptr;
   const std::vector<std::string>* species_names = nullptr;
   const std::vector<double>* species_mass = nullptr;
   // Further per-particle arrays: the fields of the particle field list flagged kFrame that are not

@@ -498,6 +498,12 @@ void GsdWriter::write_frame(const FrameView& f) {
     chunks.push_back(Chunk::make("particles/image", kInt32, 3,
                                  per_particle([&](std::size_t i, int d) { return im[d][i]; }, 3)));
   }
+  if (n > 0 && f.orientation != nullptr)
+    chunks.push_back(Chunk::make("particles/orientation", kFloat32, 4,
+                                 per_particle([&](std::size_t i, int c) { return static_cast<float>(f.orientation[4 * i + static_cast<std::size_t>(c)]); }, 4)));
+  if (n > 0 && f.diameter != nullptr)
+    chunks.push_back(Chunk::make("particles/diameter", kFloat32, 1,
+                                 per_particle([&](std::size_t i, int) { return static_cast<float>(f.diameter[i]); }, 1)));
   if (n > 0 && next_frame_ == 0 && f.topology != nullptr && !f.topology->empty()) {
     // Rows of the particle chunks are in id order: row of id = its rank among the ids.
     std::vector<std::uint32_t> sorted_ids(n);

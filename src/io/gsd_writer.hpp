@@ -16,6 +16,8 @@
 //                                               strictly below +L/2 after rounding to float32
 //   particles/velocity        float32 [N x 3]   "velocity"
 //   particles/image           int32 [N x 3]     "image"
+//   particles/orientation     float32 [N x 4]   FrameView::orientation, when set (rigid bodies)
+//   particles/diameter        float32 [N]       FrameView::diameter, when set
 //   log/particles/force       float32 [N x 3]   "force" (the hoomd schema has no force chunk)
 //   log/particles/id          uint32 [N]        "id" (the hoomd schema has no id chunk)
 //   log/particles/<name>      its type [N]      an extra field of the particle field list
