@@ -235,11 +235,74 @@ Geometry::Geometry(const std::vector<SolidSpec>& solids, const Box& box, const s
   for (std::size_t k = 0; k < solids.size(); ++k)
     shapes_.push_back(k < released.size() && released[k] ? nullptr
                                                           : make_shape(solids[k].shape, box, fmt::format("solid[{}]", k)));
+  std::size_t live = 0;
+  for (const auto& s : shapes_) live += s ? 1 : 0;
+  if (live < 8) return;  // few solids: the plain loop is as fast
+  // Cells about 2 wide (at most 32 per axis). A solid k with distance d_k at a cell's centre and
+  // Lipschitz constant l_k lies within d_k +- l_k h anywhere in the cell (h the half diagonal); the
+  // solids whose lower end is below the smallest upper end are the only ones that can be nearest there.
+  // The ends are widened by 1e-9 (and relatively), far beyond rounding, so no candidate is lost to it.
+  double half_diagonal = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double len = box.length(a);
+    const int n = std::clamp(static_cast<int>(len / 2.0), 1, 32);
+    cells_[static_cast<std::size_t>(a)] = n;
+    length_[static_cast<std::size_t>(a)] = len;
+    inverse_width_[static_cast<std::size_t>(a)] = n / len;
+    half_diagonal += 0.25 * (len / n) * (len / n);
+  }
+  half_diagonal = std::sqrt(half_diagonal);
+  const std::size_t ncell = static_cast<std::size_t>(cells_[0]) * static_cast<std::size_t>(cells_[1]) *
+                            static_cast<std::size_t>(cells_[2]);
+  std::vector<std::vector<std::uint32_t>> lists(ncell);
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < ncell; ++c) {
+    const std::size_t ix = c % static_cast<std::size_t>(cells_[0]);
+    const std::size_t iy = (c / static_cast<std::size_t>(cells_[0])) % static_cast<std::size_t>(cells_[1]);
+    const std::size_t iz = c / (static_cast<std::size_t>(cells_[0]) * static_cast<std::size_t>(cells_[1]));
+    const Vec3 centre{(static_cast<double>(ix) + 0.5) / inverse_width_[0], (static_cast<double>(iy) + 0.5) / inverse_width_[1],
+                      (static_cast<double>(iz) + 0.5) / inverse_width_[2]};
+    std::vector<double> lo(shapes_.size(), kInf);
+    double upper = kInf;
+    for (std::size_t k = 0; k < shapes_.size(); ++k) {
+      if (!shapes_[k]) continue;
+      const double d = shapes_[k]->sdf(centre), slack = shapes_[k]->lipschitz() * half_diagonal;
+      const double margin = 1e-9 * (1.0 + std::abs(d) + slack);
+      lo[k] = d - slack - margin;
+      upper = std::min(upper, d + slack + margin);
+    }
+    for (std::size_t k = 0; k < shapes_.size(); ++k)
+      if (shapes_[k] && lo[k] <= upper) lists[c].push_back(static_cast<std::uint32_t>(k));
+  }
+  cell_start_.assign(ncell + 1, 0);
+  for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] = cell_start_[c] + static_cast<std::uint32_t>(lists[c].size());
+  cell_solids_.reserve(cell_start_[ncell]);
+  for (const auto& l : lists) cell_solids_.insert(cell_solids_.end(), l.begin(), l.end());
 }
 
 double Geometry::sdf(const Vec3& p, int& body) const {
   double d = kInf;
   body = -1;
+  if (!cell_start_.empty()) {
+    const double q[3] = {p.x, p.y, p.z};
+    bool inside = true;
+    std::size_t cell = 0;
+    for (int a = 2; a >= 0; --a) {
+      const std::size_t u = static_cast<std::size_t>(a);
+      inside = inside && q[a] >= 0.0 && q[a] < length_[u];
+      const int i = inside ? std::min(static_cast<int>(q[a] * inverse_width_[u]), cells_[u] - 1) : 0;
+      cell = cell * static_cast<std::size_t>(cells_[u]) + static_cast<std::size_t>(i);
+    }
+    if (inside) {
+      // The candidates in increasing solid index, as the full loop visits them: the same minimum and
+      // the same solid on a tie.
+      for (std::uint32_t n = cell_start_[cell]; n < cell_start_[cell + 1]; ++n) {
+        const std::size_t k = cell_solids_[n];
+        if (const double dk = shapes_[k]->sdf(p); dk < d) d = dk, body = static_cast<int>(k);
+      }
+      return d;
+    }
+  }
   for (std::size_t k = 0; k < shapes_.size(); ++k)
     if (shapes_[k])
       if (const double dk = shapes_[k]->sdf(p); dk < d) d = dk, body = static_cast<int>(k);

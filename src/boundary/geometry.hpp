@@ -63,6 +63,12 @@ class Geometry {
 
  private:
   std::vector<std::unique_ptr<Shape>> shapes_;  // null for a released solid
+  // With many solids, a grid over the box whose cells list the solids that can be the nearest anywhere
+  // in the cell (from each solid's distance at the cell centre and its Lipschitz bound), so that sdf()
+  // evaluates those only; the minimum and the solid that attains it are the same as over all solids.
+  std::array<int, 3> cells_{0, 0, 0};
+  std::array<double, 3> inverse_width_{0, 0, 0}, length_{0, 0, 0};
+  std::vector<std::uint32_t> cell_start_, cell_solids_;
 };
 
 }  // namespace mesodpd
