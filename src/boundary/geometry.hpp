@@ -38,7 +38,7 @@ std::unique_ptr<Shape> make_shape(const ShapeSpec& spec, const Box& box, const s
 class Geometry {
  public:
   Geometry() = default;
-  // `released[k]` != 0 leaves solid k out (a solid another model moves, boundary/rigid_bodies.hpp): its
+  // `released[k]` != 0 leaves solid k out (a solid another model moves, engine/rigid_bodies.hpp): its
   // index stays, but sdf() never returns it. Empty: every solid.
   Geometry(const std::vector<SolidSpec>& solids, const Box& box, const std::vector<std::uint8_t>& released = {});
   // No solid to act on (none, or every one released).

@@ -25,7 +25,7 @@ class Comm;
 inline constexpr double kWallFixedScale = 4294967296.0;
 inline std::int64_t wall_fixed(double v) { return static_cast<std::int64_t>(std::llround(v * kWallFixedScale)); }
 
-// The [[solid]] blocks that a model moves itself (rigid bodies, boundary/rigid_bodies.hpp), by solid
+// The [[solid]] blocks that a model moves itself (rigid bodies, engine/rigid_bodies.hpp), by solid
 // index: such a model adds this to the Components before the walls are installed, and the walls then
 // leave those solids out of their reflections and adaptive force (their frozen particles stay, and the
 // drag still reports the pair forces on them).
