@@ -210,9 +210,7 @@ RigidBodies::RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spe
     st.l = times(inertia, Vec3{b.angular_velocity[0], b.angular_velocity[1], b.angular_velocity[2]});
     state_.push_back(st);
   }
-  std::vector<std::uint8_t> moving(spec.solids.size(), 0);
-  for (int s : solid_of_) moving[static_cast<std::size_t>(s)] = 1;
-  walls_ = Geometry(spec.solids, box, moving);
+  walls_ = Geometry(spec.solids, box, released());
 }
 
 std::vector<std::uint8_t> RigidBodies::released() const {
@@ -622,6 +620,8 @@ void RigidBodies::bounce(StepContext& ctx) {
   //    change before the next collision; taking them all from the same V would heat a light body (the
   //    kicks of one step pile up on it: measured +15% at M = 14, dt = 0.02).
   std::vector<Vec3> impulse(nb), turn(nb);
+  std::vector<Mat3> inverse_inertia(nb);  // lab frame; the orientations do not change here
+  std::vector<std::uint8_t> known(nb, 0);
   for (const Hit& h : hits) {
     const std::size_t k = static_cast<std::size_t>(h.body);
     BodyState& s = state_[k];
@@ -631,7 +631,8 @@ void RigidBodies::bounce(StepContext& ctx) {
     if (!(dot(u, h.normal) < 0)) continue;
     Vec3 j = -2.0 * h.mass * u;
     if (free) {
-      const Mat3 inv = inverse(inertia(k));
+      if (!known[k]) inverse_inertia[k] = inverse(inertia(k)), known[k] = 1;
+      const Mat3& inv = inverse_inertia[k];
       Mat3 a{};
       for (int c = 0; c < 3; ++c) {
         Vec3 e;

@@ -111,11 +111,13 @@ TEST(RigidBodies, MassPropertiesOfABoxAndOfTwoSpheres) {
   EXPECT_NEAR(m.volume, 8.0, 1e-9);
   EXPECT_NEAR(m.center.x, 2.0, 1e-9);
   EXPECT_NEAR(m.center.z, 5.0, 1e-9);
-  // I_xx = V (b^2 + c^2) / 12 for edges a, b, c: the cell-centre sums carry -V h^2 / 12 per axis
-  // (h = 0.04: -0.0021 for two axes).
-  EXPECT_NEAR(m.inertia[0], 8.0 * (1.0 + 16.0) / 12.0, 3e-3);
-  EXPECT_NEAR(m.inertia[4], 8.0 * (4.0 + 16.0) / 12.0, 3e-3);
-  EXPECT_NEAR(m.inertia[8], 8.0 * (4.0 + 1.0) / 12.0, 3e-3);
+  // I_xx = V (b^2 + c^2) / 12 for edges a, b, c. The cells (h = 4 / 100 = 0.04) tile the box exactly,
+  // and the cell-centre sum of x^2 over a side of length b is b^3 / 12 - b h^2 / 12: the grid's value is
+  // the exact one minus V h^2 / 12 per axis, -0.0021333 for two axes, to round-off.
+  const double grid = 2.0 * 8.0 * 0.04 * 0.04 / 12.0;
+  EXPECT_NEAR(m.inertia[0], 8.0 * (1.0 + 16.0) / 12.0 - grid, 1e-9);
+  EXPECT_NEAR(m.inertia[4], 8.0 * (4.0 + 16.0) / 12.0 - grid, 1e-9);
+  EXPECT_NEAR(m.inertia[8], 8.0 * (4.0 + 1.0) / 12.0 - grid, 1e-9);
   EXPECT_NEAR(m.inertia[1], 0.0, 1e-9);
   // Two touching spheres of radius 1: the centre midway, I about the joining axis 2 x (2/5) V1, about a
   // normal axis 2 x ((2/5) V1 + V1 d^2) with d = 1.
@@ -245,7 +247,7 @@ TEST(RigidBodies, BitIdenticalOnThreadsAndRestart) {
 }
 
 // Two spheres driven into each other by opposite forces of 20 stop where their contact repulsion balances
-// the push (surfaces overlapping by less than half a particle spacing, since only the few surface
+// the push (closest centres 3.94 apart: the surfaces overlap a little, since only the few surface
 // particles near the contact feel it); without the repulsion they pass into each other.
 double closest_approach(double repulsion) {
   const std::string other =
@@ -266,6 +268,7 @@ double closest_approach(double repulsion) {
 
 TEST(RigidBodies, ContactRepulsionKeepsBodiesApart) {
   const double with = closest_approach(50.0);
+  std::printf("two spheres pushed together: closest centres %.3f apart\n", with);
   EXPECT_GT(with, 4.0 - 0.25);
   EXPECT_LT(with, 4.0 + 0.75);  // the force did bring them together
   EXPECT_LT(closest_approach(0.0), 3.0);
