@@ -29,6 +29,7 @@
 
 #include "analysis/block_rows.hpp"
 #include "engine/installer.hpp"
+#include "engine/lees_edwards_spec.hpp"
 #include "engine/pair_laws.hpp"
 #include "engine/simulation.hpp"
 #include "integrate/thermostat_keys.hpp"
@@ -39,24 +40,6 @@
 #include "parallel/comm.hpp"
 
 namespace mesodpd {
-
-struct LeesEdwardsSpec {
-  int flow = 0, gradient = 1;
-  std::optional<double> shear_rate;
-  std::optional<double> strain_amplitude, omega;
-  bool initial_profile = true;
-  std::uint64_t stress_every = 10;
-  std::uint64_t equilibrate = 0;
-  int blocks = 10;
-
-  bool oscillatory() const { return omega.has_value(); }
-  // The shear rate at t = 0 (the steady rate, or gamma_0 omega).
-  double initial_rate() const { return oscillatory() ? *strain_amplitude * *omega : *shear_rate; }
-  // The largest image velocity |dU| = |rate| L_g over the run.
-  double max_image_velocity(const SimulationSpec& spec) const {
-    return std::abs(initial_rate()) * spec.box[static_cast<std::size_t>(gradient)];
-  }
-};
 
 namespace {
 
