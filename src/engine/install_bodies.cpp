@@ -17,6 +17,7 @@
 
 #include "boundary/walls.hpp"
 #include "engine/installer.hpp"
+#include "engine/lees_edwards_spec.hpp"
 #include "engine/rigid_bodies.hpp"
 #include "engine/simulation.hpp"
 #include "io/byte_buffer.hpp"
@@ -80,9 +81,11 @@ const keys::KeyTable<BodySpec>& body_keys() {
 
 void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec) {
   if (list.empty()) return;
-  if (spec.models.count("lees_edwards"))
-    keys::fail("lees_edwards", "", "[[body]] rigid bodies do not work with Lees-Edwards shear yet (their particles are "
-               "placed with plain periodic images); shear a suspension between moving walls instead");
+  const LeesEdwardsSpec* le = spec.model<LeesEdwardsSpec>("lees_edwards");
+  if (le && le->oscillatory())
+    keys::fail("lees_edwards.omega", fmt::format("{}", *le->omega),
+               "[[body]] rigid bodies follow steady Lees-Edwards shear only (the homogeneous-shear force of oscillatory "
+               "shear is not applied to them)");
   if (spec.walls.adaptive)
     keys::fail("walls.adaptive", "true", "the adaptive wall force does not work with [[body]] rigid bodies yet");
   if (spec.bond_subcycles > 1)
@@ -98,6 +101,10 @@ void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec)
     used.push_back(b.solid);
     mass_properties(it->shape, fmt::format("{}.solid ('{}')", key, b.solid));  // refuses unbounded shapes
     const bool towed = b.motion == BodyMotion::Towed;
+    if (towed && le && b.velocity[static_cast<std::size_t>(le->gradient)] != 0.0)
+      keys::fail(key + ".velocity", "",
+                 "a towed body may not move along the Lees-Edwards gradient axis: it would cross the sheared faces, "
+                 "where the image frame moves, and keep the velocity of the frame it left");
     if (towed && (b.force != std::array<double, 3>{0, 0, 0} || b.torque != std::array<double, 3>{0, 0, 0}))
       keys::fail(key + (b.force != std::array<double, 3>{0, 0, 0} ? ".force" : ".torque"), "",
                  "a towed body moves as prescribed: an external force or torque would do nothing");
@@ -122,7 +129,7 @@ class BodyOutputStage final : public Stage {
       const bool resume = append && std::filesystem::exists(csv) && std::filesystem::file_size(csv) > 0;
       file_.open(csv, resume ? OutputFile::Mode::Append : OutputFile::Mode::Truncate);
       if (!resume)
-        file_ << "step,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz\n";
+        file_ << "step,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz,sxx,syy,szz,sxy,sxz,syz\n";
       file_.flush();
     });
   }
@@ -134,11 +141,13 @@ class BodyOutputStage final : public Stage {
       if (e == 0 || ctx.step % e != 0) continue;
       const BodyState& s = bodies_.state(k);
       const Vec3 w = bodies_.omega(k);
+      const Sym6 st = bodies_.mean_stresslet(k);
       file_ << fmt::format("{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
-                           "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
+                           "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},"
+                           "{:.10g},{:.10g},{:.10g}\n",
                            ctx.step, k, s.x.x, s.x.y, s.x.z, s.q.w, s.q.x, s.q.y, s.q.z, s.v.x, s.v.y, s.v.z, w.x, w.y,
                            w.z, s.f.x + s.f_bounce.x, s.f.y + s.f_bounce.y, s.f.z + s.f_bounce.z, s.t.x + s.t_bounce.x,
-                           s.t.y + s.t_bounce.y, s.t.z + s.t_bounce.z);
+                           s.t.y + s.t_bounce.y, s.t.z + s.t_bounce.z, st[0], st[1], st[2], st[3], st[4], st[5]);
       any = true;
     }
     if (!any) return;

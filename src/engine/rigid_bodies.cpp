@@ -13,6 +13,7 @@
 
 #include "boundary/walls.hpp"
 #include "engine/blow_up_error.hpp"
+#include "engine/lees_edwards_spec.hpp"
 #include "io/byte_buffer.hpp"
 #include "mesodpd/config_error.hpp"
 #include "parallel/comm.hpp"
@@ -104,6 +105,34 @@ void bounds(const ShapeSpec& s, const std::string& key, Vec3& lo, Vec3& hi) {
   throw ConfigError(fmt::format("{}: a [[body]] must be bounded: a sphere, a box, or a union or difference of them "
                                 "(planes, cylinders, pillars and images extend across the box)",
                                 key));
+}
+
+// Wraps r into the box along every periodic axis, as the engine wraps particles (apply_box_boundaries):
+// under Lees-Edwards shear a crossing of the gradient faces first moves it by -k offset along the flow
+// axis. Returns k, the crossings of the gradient faces (the velocity then changes by -k dU along f);
+// `image` counts the crossings per axis.
+double wrap_point(const Box& box, double r[3], std::int32_t image[3]) {
+  double k = 0.0;
+  if (box.sheared()) {
+    const int g = box.shear.gradient, f = box.shear.flow;
+    const std::int32_t before = image[g];
+    wrap_coordinate(r[g], image[g], box.length(g));
+    k = static_cast<double>(image[g] - before);
+    r[f] -= k * box.shear.offset;
+  }
+  for (int a = 0; a < 3; ++a)
+    if (box.periodic[static_cast<std::size_t>(a)]) wrap_coordinate(r[a], image[a], box.length(a));
+  return k;
+}
+
+// sym(a (x) b) in the order xx, yy, zz, xy, xz, yz.
+Sym6 sym_outer(const Vec3& a, const Vec3& b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z, 0.5 * (a.x * b.y + a.y * b.x), 0.5 * (a.x * b.z + a.z * b.x),
+          0.5 * (a.y * b.z + a.z * b.y)};
+}
+
+void add_to(Sym6& s, const Sym6& t, double c = 1.0) {
+  for (std::size_t q = 0; q < 6; ++q) s[q] += c * t[q];
 }
 
 Box unbounded_box() {
@@ -207,9 +236,27 @@ RigidBodies::RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spe
     BodyState st;
     st.x = mp.center;
     st.v = {b.velocity[0], b.velocity[1], b.velocity[2]};
-    st.l = times(inertia, Vec3{b.angular_velocity[0], b.angular_velocity[1], b.angular_velocity[2]});
+    Vec3 w{b.angular_velocity[0], b.angular_velocity[1], b.angular_velocity[2]};
+    const LeesEdwardsSpec* le = spec.model<LeesEdwardsSpec>("lees_edwards");
+    if (le && !le->oscillatory() && le->initial_profile && b.motion == BodyMotion::Free) {
+      // The imposed flow u = rate x_g e_f (zero at the middle of g) at the centre, and half its vorticity.
+      const int f = le->flow, g = le->gradient;
+      double c[3] = {st.x.x, st.x.y, st.x.z};
+      std::int32_t image = 0;
+      wrap_coordinate(c[g], image, box.length(g));
+      Vec3 ef, eg;
+      (f == 0 ? ef.x : f == 1 ? ef.y : ef.z) = 1.0;
+      (g == 0 ? eg.x : g == 1 ? eg.y : eg.z) = 1.0;
+      st.v += (*le->shear_rate * (c[g] - 0.5 * box.length(g))) * ef;
+      w += (0.5 * *le->shear_rate) * cross(eg, ef);
+    }
+    st.l = times(inertia, w);
     state_.push_back(st);
   }
+  stresslet_.assign(specs_.size(), Sym6{});
+  bounce_stresslet_.assign(specs_.size(), Sym6{});
+  stresslet_sum_.assign(specs_.size(), Sym6{});
+  stresslet_steps_.assign(specs_.size(), 0);
   walls_ = Geometry(spec.solids, box, released());
 }
 
@@ -252,10 +299,17 @@ Vec3 RigidBodies::wrapped_center(std::size_t k) const {
   return c;
 }
 
-Vec3 RigidBodies::displacement(const Vec3& a, const Vec3& b) const {
-  return {minimum_image(a.x - b.x, box_.image_len(0), box_.half_image_len(0)),
-          minimum_image(a.y - b.y, box_.image_len(1), box_.half_image_len(1)),
-          minimum_image(a.z - b.z, box_.image_len(2), box_.half_image_len(2))};
+Vec3 RigidBodies::displacement(const Vec3& a, const Vec3& b, double* n) const {
+  double d[3] = {a.x - b.x, a.y - b.y, a.z - b.z};
+  const double k = box_displacement(box_, d);
+  if (n) *n = k;
+  return {d[0], d[1], d[2]};
+}
+
+Sym6 RigidBodies::mean_stresslet(std::size_t k) const {
+  Sym6 m{};
+  if (stresslet_steps_[k] > 0) add_to(m, stresslet_sum_[k], 1.0 / static_cast<double>(stresslet_steps_[k]));
+  return m;
 }
 
 long RigidBodies::find(std::uint32_t id) const { return id < index_of_id_.size() ? index_of_id_[id] : -1; }
@@ -373,7 +427,7 @@ void RigidBodies::check_box(std::uint64_t step) const {
     }
 }
 
-void RigidBodies::add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const {
+void RigidBodies::add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t, std::vector<Sym6>& st) const {
   const std::size_t nb = specs_.size();
   std::vector<Vec3> center(nb);
   for (std::size_t k = 0; k < nb; ++k) center[k] = wrapped_center(k);
@@ -398,26 +452,27 @@ void RigidBodies::add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const
         const Vec3 force = (s.repulsion * (1.0 - gap / s.repulsion_range)) * rotate(qc, body_normal(c, in_c));
         f[a] += force;
         t[a] += cross(arm, force);
+        add_to(st[a], sym_outer(arm, force));
         f[c] += -1.0 * force;
         t[c] += cross(d, -1.0 * force);
+        add_to(st[c], sym_outer(d, force), -1.0);
       }
     }
     if (walls_.empty()) continue;
     for (const Vec3& b : points_[a]) {
       const Vec3 arm = rotate(qa, b);
-      Vec3 r = center[a] + arm;
-      double* xyz[3] = {&r.x, &r.y, &r.z};
-      for (int ax = 0; ax < 3; ++ax)
-        if (box_.periodic[static_cast<std::size_t>(ax)]) {
-          std::int32_t image = 0;
-          wrap_coordinate(*xyz[ax], image, box_.length(ax));
-        }
+      const Vec3 at = center[a] + arm;
+      double xyz[3] = {at.x, at.y, at.z};
+      std::int32_t image[3] = {0, 0, 0};
+      wrap_point(box_, xyz, image);
+      const Vec3 r{xyz[0], xyz[1], xyz[2]};
       int wall = -1;
       const double gap = walls_.sdf(r, wall);
       if (gap >= s.repulsion_range || wall < 0) continue;
       const Vec3 force = (s.repulsion * (1.0 - gap / s.repulsion_range)) * walls_.normal(r, wall);
       f[a] += force;
       t[a] += cross(arm, force);
+      add_to(st[a], sym_outer(arm, force));
     }
   }
 }
@@ -425,33 +480,40 @@ void RigidBodies::add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const
 void RigidBodies::compute_forces(const StepContext& ctx) {
   const ParticleData& p = ctx.particles;
   const std::size_t nb = specs_.size();
-  // Force and torque of the pair forces on this rank's body particles, in 2^32 fixed point (the sum is
-  // exact whatever the order, so it is the same on any thread or rank count).
-  std::vector<std::int64_t> sums(6 * nb, 0);
+  // Force, torque and stresslet of the pair forces on this rank's body particles, in 2^32 fixed point (the
+  // sum is exact whatever the order, so it is the same on any thread or rank count).
+  constexpr std::size_t kw = 12;
+  std::vector<std::int64_t> sums(kw * nb, 0);
   const std::vector<std::int32_t>& slot = slots(p);
   for (std::size_t i = 0; i < p.n_local; ++i) {
     const std::int32_t n = slot[i];
     if (n < 0) continue;
     const std::size_t k = static_cast<std::size_t>(owner_[static_cast<std::size_t>(n)]);
     const Vec3 f{p.fx[i], p.fy[i], p.fz[i]};
-    const Vec3 torque = cross(rotate(state_[k].q, offset_[static_cast<std::size_t>(n)]), f);
-    const double v[6] = {f.x, f.y, f.z, torque.x, torque.y, torque.z};
-    for (int c = 0; c < 6; ++c) sums[6 * k + static_cast<std::size_t>(c)] += wall_fixed(v[c]);
+    const Vec3 arm = rotate(state_[k].q, offset_[static_cast<std::size_t>(n)]);
+    const Vec3 torque = cross(arm, f);
+    const Sym6 st = sym_outer(arm, f);
+    const double v[kw] = {f.x, f.y, f.z, torque.x, torque.y, torque.z, st[0], st[1], st[2], st[3], st[4], st[5]};
+    for (std::size_t c = 0; c < kw; ++c) sums[kw * k + c] += wall_fixed(v[c]);
   }
   if (ctx.comm.distributed()) ctx.comm.sum(std::span<std::int64_t>(sums));
   std::vector<Vec3> f(nb), t(nb);
+  std::vector<Sym6> st(nb);
   for (std::size_t k = 0; k < nb; ++k) {
-    const auto s = [&](int c) { return static_cast<double>(sums[6 * k + static_cast<std::size_t>(c)]) / kWallFixedScale; };
+    const auto s = [&](std::size_t c) { return static_cast<double>(sums[kw * k + c]) / kWallFixedScale; };
     f[k] = {s(0), s(1), s(2)};
     t[k] = {s(3), s(4), s(5)};
+    for (std::size_t c = 0; c < 6; ++c) st[k][c] = s(6 + c);
     const BodySpec& b = specs_[k];
     f[k] += Vec3{b.force[0], b.force[1], b.force[2]};
     t[k] += Vec3{b.torque[0], b.torque[1], b.torque[2]};
   }
-  add_contacts(f, t);
+  add_contacts(f, t, st);
   for (std::size_t k = 0; k < nb; ++k) {
     state_[k].f = f[k];
     state_[k].t = t[k];
+    add_to(st[k], bounce_stresslet_[k]);
+    stresslet_[k] = st[k];
   }
   forces_known_ = true;
 }
@@ -469,12 +531,13 @@ void RigidBodies::place(StepContext& ctx, bool positions) {
     const std::size_t k = static_cast<std::size_t>(owner_[static_cast<std::size_t>(at)]);
     const BodyState& s = state_[k];
     const Vec3 arm = rotate(s.q, offset_[static_cast<std::size_t>(at)]);
+    const Vec3 r = s.x + arm;
+    double q[3] = {r.x, r.y, r.z};
+    std::int32_t image[3] = {0, 0, 0};
+    // Under shear a particle that sits across the gradient faces from the centre is the body's image
+    // there: moved by the offset and moving faster by the image velocity.
+    const double crossed = wrap_point(box_, q, image);
     if (positions) {
-      const Vec3 r = s.x + arm;
-      double q[3] = {r.x, r.y, r.z};
-      std::int32_t image[3] = {0, 0, 0};
-      for (int a = 0; a < 3; ++a)
-        if (box_.periodic[static_cast<std::size_t>(a)]) wrap_coordinate(q[a], image[a], box_.length(a));
       p.x[i] = q[0];
       p.y[i] = q[1];
       p.z[i] = q[2];
@@ -482,7 +545,11 @@ void RigidBodies::place(StepContext& ctx, bool positions) {
       p.iy[i] = image[1];
       p.iz[i] = image[2];
     }
-    const Vec3 v = s.v + cross(omega[k], arm);
+    Vec3 v = s.v + cross(omega[k], arm);
+    if (crossed != 0.0) {
+      const int f = box_.shear.flow;
+      (f == 0 ? v.x : f == 1 ? v.y : v.z) -= crossed * box_.shear.velocity;
+    }
     p.vx[i] = p.hx[i] = v.x;
     p.vy[i] = p.hy[i] = v.y;
     p.vz[i] = p.hz[i] = v.z;
@@ -525,11 +592,16 @@ void RigidBodies::bounce(StepContext& ctx) {
   for (std::size_t k = 0; k < nb; ++k) {
     std::array<std::vector<int>, 3> span;
     const double c[3] = {center[k].x, center[k].y, center[k].z};
+    // Under shear the image across the gradient faces is shifted along the flow axis: a body whose sphere
+    // reaches those faces is listed along the whole flow axis there.
+    const bool across = box_.sheared() && (c[box_.shear.gradient] - radius_[k] < 0.0 ||
+                                           c[box_.shear.gradient] + radius_[k] >= box_.length(box_.shear.gradient));
     for (int a = 0; a < 3; ++a) {
       auto& list = span[static_cast<std::size_t>(a)];
       const int na = cells[static_cast<std::size_t>(a)];
-      const int lo = static_cast<int>(std::floor((c[a] - radius_[k]) / width[static_cast<std::size_t>(a)]));
-      const int hi = static_cast<int>(std::floor((c[a] + radius_[k]) / width[static_cast<std::size_t>(a)]));
+      int lo = static_cast<int>(std::floor((c[a] - radius_[k]) / width[static_cast<std::size_t>(a)]));
+      int hi = static_cast<int>(std::floor((c[a] + radius_[k]) / width[static_cast<std::size_t>(a)]));
+      if (across && a == box_.shear.flow) lo = 0, hi = na - 1;
       for (int j = lo; j <= hi && static_cast<int>(list.size()) < na; ++j) {
         const int w = box_.periodic[static_cast<std::size_t>(a)] ? ((j % na) + na) % na : std::clamp(j, 0, na - 1);
         if (std::find(list.begin(), list.end(), w) == list.end()) list.push_back(w);
@@ -546,6 +618,7 @@ void RigidBodies::bounce(StepContext& ctx) {
   std::vector<std::vector<Hit>> found(static_cast<std::size_t>(threads));
   double* vel[3] = {half_velocity_ ? p.hx.data() : p.vx.data(), half_velocity_ ? p.hy.data() : p.vy.data(),
                     half_velocity_ ? p.hz.data() : p.vz.data()};
+  const int shear_flow = box_.shear.flow;
 #pragma omp parallel
   {
     std::vector<Hit>& mine = found[static_cast<std::size_t>(omp_get_thread_num())];
@@ -557,7 +630,8 @@ void RigidBodies::bounce(StepContext& ctx) {
       for (int a = 0; a < 3; ++a)
         cell[a] = std::clamp(static_cast<int>(xyz[a] / width[static_cast<std::size_t>(a)]), 0, cells[static_cast<std::size_t>(a)] - 1);
       for (std::uint32_t k : grid[static_cast<std::size_t>((cell[2] * cells[1] + cell[1]) * cells[0] + cell[0])]) {
-        const Vec3 d = displacement(Vec3{xyz[0], xyz[1], xyz[2]}, center[k]);
+        double image = 0;
+        const Vec3 d = displacement(Vec3{xyz[0], xyz[1], xyz[2]}, center[k], &image);
         if (dot(d, d) >= radius_[k] * radius_[k]) continue;
         const Quat& q = state_[k].q;
         const Vec3 b = rotate_back(q, d);
@@ -567,7 +641,9 @@ void RigidBodies::bounce(StepContext& ctx) {
         // Moving in relative to the surface (u . n < 0): back along its relative path by twice the time
         // since it crossed, tau = depth / |u . n| (at most dt), as bounce-back retraces it; otherwise (the
         // body came onto it) mirrored through the surface.
-        const Vec3 h_now{vel[0][i], vel[1][i], vel[2][i]};
+        // The particle's velocity in the frame of the body's image it is in (Lees-Edwards: -image dU e_f).
+        Vec3 h_now{vel[0][i], vel[1][i], vel[2][i]};
+        if (image != 0.0) (shear_flow == 0 ? h_now.x : shear_flow == 1 ? h_now.y : h_now.z) -= image * box_.shear.velocity;
         const Vec3 u = rotate_back(q, h_now - (state_[k].v + cross(omega[k], rotate(q, b))));
         const double un = dot(u, nrm);
         Vec3 out = b - 2.0 * depth * nrm;
@@ -578,12 +654,14 @@ void RigidBodies::bounce(StepContext& ctx) {
           out = out + (-d2 + 1e-9) * body_normal(k, out);
         }
         const Vec3 shift = rotate(q, out - b);
-        double* pos[3] = {&p.x[i], &p.y[i], &p.z[i]};
-        std::int32_t* img[3] = {&p.ix[i], &p.iy[i], &p.iz[i]};
-        const double sh[3] = {shift.x, shift.y, shift.z};
-        for (int a = 0; a < 3; ++a) {
-          *pos[a] += sh[a];
-          if (box_.periodic[static_cast<std::size_t>(a)]) wrap_coordinate(*pos[a], *img[a], box_.length(a));
+        double pos[3] = {p.x[i] + shift.x, p.y[i] + shift.y, p.z[i] + shift.z};
+        std::int32_t img[3] = {p.ix[i], p.iy[i], p.iz[i]};
+        const double crossed = wrap_point(box_, pos, img);
+        p.x[i] = pos[0], p.y[i] = pos[1], p.z[i] = pos[2];
+        p.ix[i] = img[0], p.iy[i] = img[1], p.iz[i] = img[2];
+        if (crossed != 0.0) {  // out through a sheared face: the image velocity, as the engine's wrap
+          (shear_flow == 0 ? p.vx : shear_flow == 1 ? p.vy : p.vz)[i] -= crossed * box_.shear.velocity;
+          if (p.hx.size() >= n) (shear_flow == 0 ? p.hx : shear_flow == 1 ? p.hy : p.hz)[i] -= crossed * box_.shear.velocity;
         }
         Hit h;
         h.id = p.id[i];
@@ -593,7 +671,7 @@ void RigidBodies::bounce(StepContext& ctx) {
         h.mass = species_mass_[static_cast<std::size_t>(p.species[i])];
         h.arm = rotate(q, b - depth * nrm);
         h.normal = rotate(q, nrm);
-        h.velocity = {vel[0][i], vel[1][i], vel[2][i]};
+        h.velocity = h_now;
         mine.push_back(h);
         break;  // one body per particle and step
       }
@@ -620,6 +698,7 @@ void RigidBodies::bounce(StepContext& ctx) {
   //    change before the next collision; taking them all from the same V would heat a light body (the
   //    kicks of one step pile up on it: measured +15% at M = 14, dt = 0.02).
   std::vector<Vec3> impulse(nb), turn(nb);
+  bounce_stresslet_.assign(nb, Sym6{});
   std::vector<Mat3> inverse_inertia(nb);  // lab frame; the orientations do not change here
   std::vector<std::uint8_t> known(nb, 0);
   for (const Hit& h : hits) {
@@ -648,6 +727,7 @@ void RigidBodies::bounce(StepContext& ctx) {
     }
     impulse[k] += -1.0 * j;
     turn[k] += cross(h.arm, -1.0 * j);
+    add_to(bounce_stresslet_[k], sym_outer(h.arm, j), -1.0 / ctx.dt);
     if (h.rank != ctx.comm.rank()) continue;
     const Vec3 dv = (1.0 / h.mass) * j;
     vel[0][h.index] += dv.x;
@@ -683,6 +763,18 @@ void RigidBodies::move(StepContext& ctx) {
       s.q = turned(s.q, omega_at(k, s.q), dt);
     }
     s.x += dt * s.v;
+    if (box_.sheared()) {
+      // Across the sheared faces the centre comes back at the other face, moved by the image offset and
+      // slowed by the image velocity along the flow axis, as a fluid particle does (so X_g stays in the
+      // box; the other coordinates stay unwrapped).
+      const int g = box_.shear.gradient, f = box_.shear.flow;
+      double* c[3] = {&s.x.x, &s.x.y, &s.x.z};
+      double* u[3] = {&s.v.x, &s.v.y, &s.v.z};
+      std::int32_t image = 0;
+      wrap_coordinate(*c[g], image, box_.length(g));
+      *c[f] -= image * box_.shear.offset;
+      *u[f] -= image * box_.shear.velocity;
+    }
   }
   check_box(ctx.step);
   bounce(ctx);
@@ -692,12 +784,37 @@ void RigidBodies::move(StepContext& ctx) {
 void RigidBodies::kick(StepContext& ctx) {
   compute_forces(ctx);
   const double dt = ctx.dt;
-  for (std::size_t k = 0; k < specs_.size(); ++k) {
+  const std::size_t nb = specs_.size();
+  for (std::size_t k = 0; k < nb; ++k) {
     if (specs_[k].motion != BodyMotion::Free) continue;
     state_[k].v += (0.5 * dt / mass_[k]) * state_[k].f;
     state_[k].l += (0.5 * dt) * state_[k].t;
   }
   place(ctx, false);
+  for (std::size_t k = 0; k < nb; ++k) {
+    const std::uint64_t every = specs_[k].output_every;
+    if (every > 0 && (ctx.step - 1) % every == 0) {  // the previous row's interval is over
+      stresslet_sum_[k] = Sym6{};
+      stresslet_steps_[k] = 0;
+    }
+    add_to(stresslet_sum_[k], stresslet_[k]);
+    ++stresslet_steps_[k];
+  }
+  if (!ctx.pair_sums) return;
+  // The molecular virial of the bodies (see stresslet()): the same on every rank, as the pair sums are.
+  const int f = box_.shear.flow, g = box_.shear.gradient;
+  for (std::size_t k = 0; k < nb; ++k) {
+    Vec3 u = state_[k].v;
+    if (box_.sheared()) {
+      const Vec3 c = wrapped_center(k);
+      const double cg = g == 0 ? c.x : g == 1 ? c.y : c.z;
+      (f == 0 ? u.x : f == 1 ? u.y : u.z) -= box_.shear.current_rate * (cg - 0.5 * box_.length(g));
+    }
+    Sym6 w = sym_outer(u, u);
+    for (double& x : w) x *= mass_[k];
+    add_to(w, stresslet_[k], -1.0);
+    for (std::size_t q = 0; q < 6; ++q) ctx.pair_sums->virial[q] += w[q];
+  }
 }
 
 std::uint64_t RigidBodies::inside(const StepContext& ctx) const {
@@ -734,6 +851,10 @@ void RigidBodies::save(ByteWriter& w) const {
   std::vector<double> off;
   for (const Vec3& b : offset_) off.insert(off.end(), {b.x, b.y, b.z});
   w.put_vector(off);
+  std::vector<double> sums;
+  for (const Sym6& x : stresslet_sum_) sums.insert(sums.end(), x.begin(), x.end());
+  w.put_vector(sums);
+  w.put_vector(stresslet_steps_);
 }
 
 void RigidBodies::load(ByteReader& r, const std::string& context) {
@@ -762,6 +883,12 @@ void RigidBodies::load(ByteReader& r, const std::string& context) {
       throw ConfigError(context + ": a rigid-body particle names a body that does not exist");
     offset_.push_back({off[3 * k], off[3 * k + 1], off[3 * k + 2]});
   }
+  const std::vector<double> sums = r.get_vector<double>();
+  stresslet_steps_ = r.get_vector<std::uint64_t>();
+  if (sums.size() != 6 * specs_.size() || stresslet_steps_.size() != specs_.size())
+    throw ConfigError(context + ": the rigid bodies' stresslet sums are inconsistent");
+  for (std::size_t k = 0; k < specs_.size(); ++k)
+    for (std::size_t q = 0; q < 6; ++q) stresslet_sum_[k][q] = sums[6 * k + q];
   index_points();
   ready_ = true;
 }

@@ -92,10 +92,17 @@ struct BodyState {
   Vec3 f_bounce, t_bounce;
 };
 
+// A symmetric tensor: xx, yy, zz, xy, xz, yz (the order of PairSums::virial).
+using Sym6 = std::array<double, 6>;
+
 class RigidBodies {
  public:
   // `bodies`: the [[body]] blocks, checked (each names a frozen [[solid]] of a bounded shape, none twice).
-  // `half_velocity` as Walls's (modified velocity-Verlet keeps the physical velocity in p.h).
+  // `half_velocity` as Walls's (modified velocity-Verlet keeps the physical velocity in p.h). `box` is the
+  // simulation's own (its Lees-Edwards offset changes with time); it must outlive the bodies. Under steady
+  // Lees-Edwards shear with lees_edwards.initial_profile a free body starts with the imposed flow at its
+  // centre, V = rate (X_g - L_g/2) e_f, and half its vorticity, Omega = (rate/2) e_g x e_f, added to its
+  // velocity and angular_velocity.
   RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spec, const Box& box, bool half_velocity);
 
   // The solids moved here (by solid index): ReleasedSolids for the walls.
@@ -110,8 +117,21 @@ class RigidBodies {
   // positions and velocities.
   void move(StepContext& ctx);
   // AfterSecondHalf (collective): the new force and torque, the second half kick, the particles'
-  // velocities.
+  // velocities. Where the step has pair sums, the bodies' share of the stress goes into their virial
+  // (see stresslet()).
   void kick(StepContext& ctx);
+
+  // The stresslet of body k at the last step: the symmetric first moment S = sum sym(a (x) F) of the forces
+  // F the body takes at its points a (from its centre): the pair forces on its particles, the bounce-backs'
+  // impulses over dt, and the contacts. A rigid body's particles do not carry the stress through it (no
+  // forces act between them): the stress of a suspension is the fluid's plus n <S> (Batchelor, J. Fluid
+  // Mech. 41, 545 (1970)), so kick() replaces the atomic virial of the forces on the body's particles by
+  // the molecular one, W += -S + M (V - u) (x) (V - u) per body (u: the imposed Lees-Edwards flow at
+  // its centre, else 0).
+  const Sym6& stresslet(std::size_t k) const { return stresslet_[k]; }
+  // The mean stresslet of body k over the steps since its previous bodies.csv row (output_every), this one
+  // included.
+  Sym6 mean_stresslet(std::size_t k) const;
 
   // Mobile local particles inside some body now, summed over ranks (collective; 0 after every move).
   std::uint64_t inside(const StepContext& ctx) const;
@@ -143,13 +163,15 @@ class RigidBodies {
   double body_sdf(std::size_t k, const Vec3& b) const { return shapes_[k]->sdf(origin_[k] + b); }
   Vec3 body_normal(std::size_t k, const Vec3& b) const { return shapes_[k]->normal(origin_[k] + b); }
   Vec3 wrapped_center(std::size_t k) const;
-  Vec3 displacement(const Vec3& a, const Vec3& b) const;  // a - b at the nearest image
+  // a - b at the nearest image (Lees-Edwards images included); `n` gets the image count of b along the
+  // gradient axis: a's velocity relative to b's image is v_a - v_b - n dU e_f.
+  Vec3 displacement(const Vec3& a, const Vec3& b, double* n = nullptr) const;
   // Index into ids_ of the body particle `id` (its offset and body), or -1 (ids_ is sorted).
   long find(std::uint32_t id) const;
   // find() of every local particle, kept for the storage order it was made for (ParticleData::generation).
   const std::vector<std::int32_t>& slots(const ParticleData& p);
   void compute_forces(const StepContext& ctx);
-  void add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t) const;
+  void add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t, std::vector<Sym6>& s) const;
   void bounce(StepContext& ctx);
   void place(StepContext& ctx, bool positions);
   void index_points();
@@ -165,7 +187,7 @@ class RigidBodies {
   std::vector<std::array<double, 9>> inertia_inverse_;  // body frame
   std::vector<std::array<double, 9>> inertia_body_;
   std::vector<BodyState> state_;
-  Box box_;
+  const Box& box_;
   bool half_velocity_;
   std::vector<std::uint8_t> frozen_;
   std::vector<double> species_mass_;
@@ -182,6 +204,10 @@ class RigidBodies {
   bool ready_ = false;          // offsets known (attach() or load())
   bool forces_known_ = false;   // state_.f, t hold the last force evaluation's
   std::uint64_t bounces_ = 0;
+  std::vector<Sym6> stresslet_;         // per body, the last step's (pairs, contacts and bounce-backs)
+  std::vector<Sym6> bounce_stresslet_;  // per body, this step's bounce-backs' part
+  std::vector<Sym6> stresslet_sum_;     // per body, since its previous output row (checkpointed)
+  std::vector<std::uint64_t> stresslet_steps_;
 };
 
 }  // namespace mesodpd

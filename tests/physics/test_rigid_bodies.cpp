@@ -298,6 +298,165 @@ TEST(RigidBodies, ASpherePushedOntoAWallRestsOnIt) {
   EXPECT_GT(mean - 3.5, -0.2);
 }
 
+// Lees-Edwards shear at rate 0.1 (flow x, gradient y) with the sphere pulled up y by a force of 20: it
+// crosses the sheared faces (its centre comes back at the bottom, moved by the offset, with the image
+// velocity taken off its flow velocity). After every step no fluid particle is inside it at any image
+// and each of its particles sits at its body-frame offset from the centre at the Lees-Edwards image.
+std::string sheared(const std::string& body) {
+  std::string text = suspension(body, "[lees_edwards]\nshear_rate = 0.1\nstress_every = 1\n");
+  text.replace(text.find("center = [6, 6, 6]"), 18, "center = [6, 9, 6]");
+  return text;
+}
+
+TEST(RigidBodies, CrossesTheShearedFacesWhole) {
+  Simulation sim(parse_config(sheared("force = [0, 20, 0]\n"), "b.toml"), RunOptions{});
+  const RigidBodies* bodies = sim.component<RigidBodies>();
+  // A new run starts the body with the imposed flow at its centre and half the vorticity.
+  EXPECT_NEAR(bodies->state(0).v.x, 0.1 * (9.0 - 6.0), 1e-12);
+  EXPECT_NEAR(bodies->omega(0).z, -0.05, 1e-12);
+  const Box& box = sim.box();
+  bool crossed = false;
+  double last_y = bodies->state(0).x.y;
+  for (int n = 0; n < 700; ++n) {
+    sim.step();
+    const BodyState& s = bodies->state(0);
+    if (s.x.y < last_y - 6.0) {
+      crossed = true;
+      // Its flow velocity follows the imposed flow at its new place (image velocity 1.2 taken off).
+      EXPECT_NEAR(s.v.x, 0.1 * (s.x.y - 6.0), 0.35) << "step " << sim.current_step();
+    }
+    last_y = s.x.y;
+    const ParticleData& p = sim.particles();
+    const Vec3 c = s.x;
+    const Vec3 w = bodies->omega(0);
+    std::size_t inside = 0;
+    double worst = 0, worst_v = 0;
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      double d[3] = {p.x[i] - c.x, p.y[i] - c.y, p.z[i] - c.z};
+      d[0] -= 12.0 * std::floor(d[0] / 12.0 + 0.5);  // raw differences within one box length
+      const double image = box_displacement(box, d);
+      const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (p.body[i] == 0) {
+        inside += r < 2.0 ? 1 : 0;
+        continue;
+      }
+      worst = std::max(worst, r);
+      // Its velocity is the body's at that point plus the velocity of the image it sits in.
+      const Vec3 v = s.v + cross(w, Vec3{d[0], d[1], d[2]}) + Vec3{image * box.shear.velocity, 0, 0};
+      worst_v = std::max({worst_v, std::abs(p.vx[i] - v.x), std::abs(p.vy[i] - v.y), std::abs(p.vz[i] - v.z)});
+    }
+    ASSERT_EQ(inside, 0u) << "step " << sim.current_step();
+    ASSERT_LT(worst, 2.0) << "a particle of the body is not at its image, step " << sim.current_step();
+    ASSERT_LT(worst_v, 1e-9) << "a particle of the body does not move with its image, step " << sim.current_step();
+  }
+  EXPECT_TRUE(crossed) << "the body never crossed the sheared faces (y = " << bodies->state(0).x.y << ")";
+}
+
+// The bounce-back at the part of a body that lies across the sheared faces is taken relative to that
+// image's surface, which moves at V - dU e_f: an ideal gas (no forces), a towed sphere at rest reaching
+// through the top face, and one particle sent down onto the pole of its image at the bottom with velocity
+// (0, -0.5, 0). Relative to the image it moves at (dU, -0.5, 0); bounce-back reverses that, so it leaves
+// with (-2 dU, 0.5, 0) (dU = 1.2). Taken in the lab frame it would leave with (0, 0.5, 0).
+TEST(RigidBodies, BounceBackAcrossTheShearedFacesIsRelativeToTheImage) {
+  std::string text = suspension("motion = \"towed\"\n",
+                                "[lees_edwards]\nshear_rate = 0.1\ninitial_profile = false\n");
+  text.replace(text.find("center = [6, 6, 6]"), 18, "center = [6, 11, 6]");
+  text.replace(text.find("density = 3"), 11, "density = 0.2");
+  text.replace(text.find("a = 25.0\ngamma = 4.5"), 20, "a = 0.0\ngamma = 0.0");
+  Simulation sim(parse_config(text, "b.toml"), RunOptions{});
+  ParticleData& p = sim.particles();
+  std::size_t i = 0;
+  while (p.body[i] != 0) ++i;
+  const double offset = 0.1 * 12.0 * 0.02;  // the image offset at the end of the first step
+  p.x[i] = 6.0 - offset;
+  p.y[i] = 1.005;  // the image's pole is at y = 13 - 12 = 1
+  p.z[i] = 6.0;
+  p.vx[i] = p.hx[i] = 0.0;
+  p.vy[i] = p.hy[i] = -0.5;
+  p.vz[i] = p.hz[i] = 0.0;
+  const std::uint32_t id = p.id[i];
+  sim.step();
+  std::size_t j = 0;
+  while (sim.particles().id[j] != id) ++j;
+  EXPECT_NEAR(sim.particles().vx[j], -2.4, 1e-9);
+  EXPECT_NEAR(sim.particles().vy[j], 0.5, 1e-9);
+  EXPECT_NEAR(sim.particles().vz[j], 0.0, 1e-9);
+  EXPECT_GT(sim.particles().y[j], 1.0);  // back out of the image, above its pole
+}
+
+// Where a step has pair sums, the body's share of the virial is -S + M (V - u) (x) (V - u): recomputed
+// here from the forces on its particles at steps without a bounce-back (the bounces' part is the
+// stresslet's remainder), against the virial before and after the bodies' stage.
+class VirialBefore final : public Stage {
+ public:
+  bool wants_pair_sums(std::uint64_t) const override { return true; }
+  void run(StepContext& ctx) override {
+    if (ctx.pair_sums) virial = ctx.pair_sums->virial;
+  }
+  std::array<double, 6> virial{};
+};
+
+class VirialAfter final : public Stage {
+ public:
+  bool wants_pair_sums(std::uint64_t) const override { return true; }
+  void run(StepContext& ctx) override {
+    if (ctx.pair_sums) virial = ctx.pair_sums->virial;
+  }
+  std::array<double, 6> virial{};
+};
+
+TEST(RigidBodies, VirialTakesTheBodiesMolecularStress) {
+  Simulation sim(parse_config(sheared("angular_velocity = [0.2, 0, 0]\n"), "b.toml"), RunOptions{});
+  const RigidBodies* bodies = sim.component<RigidBodies>();
+  auto& before = sim.add_stage(StagePoint::Forces, std::make_unique<VirialBefore>());
+  auto& after = sim.add_stage(StagePoint::EndOfStep, std::make_unique<VirialAfter>());
+  const Box& box = sim.box();
+  int checked = 0;
+  std::uint64_t bounces = bodies->bounces();
+  for (int n = 0; n < 300; ++n) {
+    sim.step();
+    const bool bounced = bodies->bounces() != bounces;
+    bounces = bodies->bounces();
+    const BodyState& s = bodies->state(0);
+    const Sym6& st = bodies->stresslet(0);
+    // The molecular correction: W_after - W_before = -S + M (V - u)(V - u).
+    Vec3 u = s.v;
+    double cy = s.x.y - 12.0 * std::floor(s.x.y / 12.0);
+    u.x -= 0.1 * (cy - 6.0);
+    const double m = bodies->mass(0);
+    const double kin[6] = {m * u.x * u.x, m * u.y * u.y, m * u.z * u.z, m * u.x * u.y, m * u.x * u.z, m * u.y * u.z};
+    for (std::size_t q = 0; q < 6; ++q)
+      ASSERT_NEAR(after.virial[q] - before.virial[q], kin[q] - st[q], 1e-9 * (1.0 + std::abs(st[q])))
+          << "component " << q << ", step " << sim.current_step();
+    if (bounced) continue;
+    // No bounce-back this step: S is the first moment of the pair forces on the body's particles.
+    const ParticleData& p = sim.particles();
+    double mine[6] = {0, 0, 0, 0, 0, 0};
+    for (std::size_t i = 0; i < p.n_local; ++i) {
+      if (p.body[i] == 0) continue;
+      double d[3] = {p.x[i] - s.x.x, p.y[i] - s.x.y, p.z[i] - s.x.z};
+      d[0] -= 12.0 * std::floor(d[0] / 12.0 + 0.5);
+      box_displacement(box, d);
+      const double f[3] = {p.fx[i], p.fy[i], p.fz[i]};
+      mine[0] += d[0] * f[0];
+      mine[1] += d[1] * f[1];
+      mine[2] += d[2] * f[2];
+      mine[3] += 0.5 * (d[0] * f[1] + d[1] * f[0]);
+      mine[4] += 0.5 * (d[0] * f[2] + d[2] * f[0]);
+      mine[5] += 0.5 * (d[1] * f[2] + d[2] * f[1]);
+    }
+    for (std::size_t q = 0; q < 6; ++q) EXPECT_NEAR(st[q], mine[q], 1e-6 * (1.0 + std::abs(mine[q]))) << "component " << q;
+    ++checked;
+  }
+  EXPECT_GT(checked, 5);
+}
+
+// A body crossing the sheared faces: the same bits on 1 and 2 threads and after a restart.
+TEST(RigidBodies, ShearedBitIdenticalOnThreadsAndRestart) {
+  test::expect_bit_identical_on_threads_and_restart(parse_config(sheared("force = [0, 8, 0]\n"), "b.toml"),
+                                                    std::filesystem::temp_directory_path() / "mesodpd_rigid_bodies_sheared_bits");
+}
+
 void expect_refused(const std::string& text, const std::string& needle) {
   try {
     Simulation sim(parse_config(text, "bad.toml"), RunOptions{});
@@ -323,6 +482,9 @@ TEST(RigidBodies, BadInputIsRefusedNamingTheKey) {
   big.replace(big.find("radius = 2.0"), 12, "radius = 3.5");
   expect_refused(big, "body[0].solid");
   expect_refused(suspension("repulsion = -1\n"), "body[0].repulsion");
+  // Oscillatory shear; a towed body moving along the sheared gradient axis.
+  expect_refused(suspension("", "[lees_edwards]\nstrain_amplitude = 0.1\nomega = 0.5\n"), "lees_edwards.omega");
+  expect_refused(sheared("motion = \"towed\"\nvelocity = [0, 0.1, 0]\n"), "body[0].velocity");
 }
 
 // A body driven out through a bounded face stops the run naming it.
