@@ -224,18 +224,12 @@ void install_bodies(Installation& in) {
   in.stages.add(StagePoint::AfterSecondHalf, make_stage([&bodies](StepContext& ctx) { bodies.kick(ctx); }));
   in.sections.push_back({"bodies", [&bodies](ByteWriter& w) { bodies.save(w); },
                          [&bodies](ByteReader& r, const std::string& context) { bodies.load(r, context); }});
-  // Bounce-backs since the previous thermo row (as the walls' reflections), so a restart's rows are the
-  // same as the uninterrupted run's.
-  auto reported = std::make_shared<std::uint64_t>(0);
-  in.thermo_columns.push_back({"body_bounces", [&bodies, reported](const StepContext& ctx) {
-                                 std::uint64_t n[1] = {bodies.bounces() - *reported};
-                                 *reported = bodies.bounces();
-                                 if (ctx.comm.distributed()) ctx.comm.sum(std::span<std::uint64_t>(n, 1));
-                                 return static_cast<double>(n[0]);
-                               }});
+  // Bounce-backs since the previous thermo row (as the walls' reflections; the mark is in the checkpoint,
+  // so a restart's rows are the same as the uninterrupted run's).
+  in.thermo_columns.push_back(
+      {"body_bounces", [&bodies](const StepContext&) { return static_cast<double>(bodies.take_bounces_since_row()); }});
   in.summaries.push_back([&bodies](const StepContext& ctx) {
-    std::uint64_t n[1] = {bodies.bounces()};
-    if (ctx.comm.distributed()) ctx.comm.sum(std::span<std::uint64_t>(n, 1));
+    const std::uint64_t n[1] = {bodies.bounces_this_run()};
     const std::uint64_t inside = bodies.inside(ctx);
     std::string text = fmt::format("bodies: {} bounce-backs at the bodies' surfaces this run; {} fluid particles inside a "
                                    "body at the end (target 0)\n",

@@ -679,7 +679,6 @@ void RigidBodies::bounce(StepContext& ctx) {
   }
   std::vector<Hit> hits;
   for (const auto& f : found) hits.insert(hits.end(), f.begin(), f.end());
-  bounces_ += hits.size();
   // 2. Every rank sees every collision (they are few: those of the particles that got in this step).
   if (ctx.comm.distributed()) {
     std::vector<std::byte> bytes(hits.size() * sizeof(Hit));
@@ -690,6 +689,7 @@ void RigidBodies::bounce(StepContext& ctx) {
     if (!hits.empty()) std::memcpy(hits.data(), all.data(), hits.size() * sizeof(Hit));
   }
   std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.body != b.body ? a.body < b.body : a.id < b.id; });
+  bounces_ += hits.size();  // all ranks' (the same count on every rank)
   // 3. The collisions one after another, body by body in particle-id order (the same sequence on every
   //    rank and thread count): where the particle moves into the body relative to the surface point's
   //    velocity u = v - (V + Omega x a), the impulse J on it reverses that relative velocity with both
@@ -855,6 +855,8 @@ void RigidBodies::save(ByteWriter& w) const {
   for (const Sym6& x : stresslet_sum_) sums.insert(sums.end(), x.begin(), x.end());
   w.put_vector(sums);
   w.put_vector(stresslet_steps_);
+  w.put<std::uint64_t>(bounces_);
+  w.put<std::uint64_t>(bounces_at_row_);
 }
 
 void RigidBodies::load(ByteReader& r, const std::string& context) {
@@ -887,6 +889,9 @@ void RigidBodies::load(ByteReader& r, const std::string& context) {
   stresslet_steps_ = r.get_vector<std::uint64_t>();
   if (sums.size() != 6 * specs_.size() || stresslet_steps_.size() != specs_.size())
     throw ConfigError(context + ": the rigid bodies' stresslet sums are inconsistent");
+  bounces_ = r.get<std::uint64_t>();
+  bounces_at_row_ = r.get<std::uint64_t>();
+  bounces_at_start_ = bounces_;
   for (std::size_t k = 0; k < specs_.size(); ++k)
     for (std::size_t q = 0; q < 6; ++q) stresslet_sum_[k][q] = sums[6 * k + q];
   index_points();

@@ -135,8 +135,16 @@ class RigidBodies {
 
   // Mobile local particles inside some body now, summed over ranks (collective; 0 after every move).
   std::uint64_t inside(const StepContext& ctx) const;
-  // Bounce-backs since the start of this run (this rank).
+  // Bounce-backs since step 0 (all ranks; kept across a restart), and since the start of this run.
   std::uint64_t bounces() const { return bounces_; }
+  std::uint64_t bounces_this_run() const { return bounces_ - bounces_at_start_; }
+  // Bounce-backs since the previous call (thermo's rows; the mark is in the checkpoint, so a restart's rows
+  // are the uninterrupted run's).
+  std::uint64_t take_bounces_since_row() {
+    const std::uint64_t n = bounces_ - bounces_at_row_;
+    bounces_at_row_ = bounces_;
+    return n;
+  }
 
   std::size_t size() const { return specs_.size(); }
   const BodySpec& spec(std::size_t k) const { return specs_[k]; }
@@ -203,7 +211,7 @@ class RigidBodies {
   std::size_t slot_count_ = 0;
   bool ready_ = false;          // offsets known (attach() or load())
   bool forces_known_ = false;   // state_.f, t hold the last force evaluation's
-  std::uint64_t bounces_ = 0;
+  std::uint64_t bounces_ = 0, bounces_at_row_ = 0, bounces_at_start_ = 0;
   std::vector<Sym6> stresslet_;         // per body, the last step's (pairs, contacts and bounce-backs)
   std::vector<Sym6> bounce_stresslet_;  // per body, this step's bounce-backs' part
   std::vector<Sym6> stresslet_sum_;     // per body, since its previous output row (checkpointed)
