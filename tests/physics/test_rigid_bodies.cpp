@@ -387,16 +387,9 @@ TEST(RigidBodies, BounceBackAcrossTheShearedFacesIsRelativeToTheImage) {
 // Where a step has pair sums, the body's share of the virial is -S + M (V - u) (x) (V - u): recomputed
 // here from the forces on its particles at steps without a bounce-back (the bounces' part is the
 // stresslet's remainder), against the virial before and after the bodies' stage.
-class VirialBefore final : public Stage {
- public:
-  bool wants_pair_sums(std::uint64_t) const override { return true; }
-  void run(StepContext& ctx) override {
-    if (ctx.pair_sums) virial = ctx.pair_sums->virial;
-  }
-  std::array<double, 6> virial{};
-};
-
-class VirialAfter final : public Stage {
+// A copy of the step's virial where the stage runs (Forces: before the bodies add theirs; EndOfStep:
+// after).
+class VirialSnapshot final : public Stage {
  public:
   bool wants_pair_sums(std::uint64_t) const override { return true; }
   void run(StepContext& ctx) override {
@@ -408,8 +401,8 @@ class VirialAfter final : public Stage {
 TEST(RigidBodies, VirialTakesTheBodiesMolecularStress) {
   Simulation sim(parse_config(sheared("angular_velocity = [0.2, 0, 0]\n"), "b.toml"), RunOptions{});
   const RigidBodies* bodies = sim.component<RigidBodies>();
-  auto& before = sim.add_stage(StagePoint::Forces, std::make_unique<VirialBefore>());
-  auto& after = sim.add_stage(StagePoint::EndOfStep, std::make_unique<VirialAfter>());
+  auto& before = sim.add_stage(StagePoint::Forces, std::make_unique<VirialSnapshot>());
+  auto& after = sim.add_stage(StagePoint::EndOfStep, std::make_unique<VirialSnapshot>());
   const Box& box = sim.box();
   int checked = 0;
   std::uint64_t bounces = bodies->bounces();
