@@ -52,7 +52,10 @@ def write_config(args, path):
             ["/usr/bin/python3", os.path.join(ROOT, "examples", "colloids", "place_bodies.py"), "--box", str(args.box),
              "--radius", str(args.radius), "--phi", str(args.phi), "--seed", str(args.seed), "--gap", str(args.gap)],
             check=True, capture_output=True, text=True).stdout
-        spheres = spheres.replace('[[body]]\nsolid', f'[[body]]\noutput_every = {args.every}\nsolid')
+        extra = f"output_every = {args.every}\n"
+        if args.repulsion_range is not None:
+            extra += f"repulsion_range = {args.repulsion_range}\n"
+        spheres = spheres.replace('[[body]]\nsolid', '[[body]]\n' + extra + 'solid')
         text += "\n" + spheres
     with open(path, "w") as f:
         f.write(text)
@@ -88,6 +91,8 @@ def main():
     ap.add_argument("--box", type=float, default=24.0)
     ap.add_argument("--radius", type=float, default=2.0, help="radius of the solid spheres")
     ap.add_argument("--gap", type=float, default=0.5, help="smallest surface gap of the random placement")
+    ap.add_argument("--repulsion-range", type=float, default=None,
+                    help="the bodies' contact repulsion_range (default: the [[body]] default, 0.5)")
     ap.add_argument("--a-h", type=float, default=2.0, help="hydrodynamic radius for [eta] (docs/validation.md 15)")
     ap.add_argument("--eta0", type=float, default=0.8593, help="the fluid's viscosity (reverse Poiseuille)")
     ap.add_argument("--dt", type=float, default=0.02)

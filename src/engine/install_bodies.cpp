@@ -82,10 +82,6 @@ const keys::KeyTable<BodySpec>& body_keys() {
 void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec) {
   if (list.empty()) return;
   const LeesEdwardsSpec* le = spec.model<LeesEdwardsSpec>("lees_edwards");
-  if (le && le->oscillatory())
-    keys::fail("lees_edwards.omega", fmt::format("{}", *le->omega),
-               "[[body]] rigid bodies follow steady Lees-Edwards shear only (the homogeneous-shear force of oscillatory "
-               "shear is not applied to them)");
   if (spec.walls.adaptive)
     keys::fail("walls.adaptive", "true", "the adaptive wall force does not work with [[body]] rigid bodies yet");
   if (spec.bond_subcycles > 1)

@@ -238,7 +238,7 @@ RigidBodies::RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spe
     st.v = {b.velocity[0], b.velocity[1], b.velocity[2]};
     Vec3 w{b.angular_velocity[0], b.angular_velocity[1], b.angular_velocity[2]};
     const LeesEdwardsSpec* le = spec.model<LeesEdwardsSpec>("lees_edwards");
-    if (le && !le->oscillatory() && le->initial_profile && b.motion == BodyMotion::Free) {
+    if (le && le->initial_profile && b.motion == BodyMotion::Free) {
       // The imposed flow u = rate x_g e_f (zero at the middle of g) at the centre, and half its vorticity.
       const int f = le->flow, g = le->gradient;
       double c[3] = {st.x.x, st.x.y, st.x.z};
@@ -247,8 +247,8 @@ RigidBodies::RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spe
       Vec3 ef, eg;
       (f == 0 ? ef.x : f == 1 ? ef.y : ef.z) = 1.0;
       (g == 0 ? eg.x : g == 1 ? eg.y : eg.z) = 1.0;
-      st.v += (*le->shear_rate * (c[g] - 0.5 * box.length(g))) * ef;
-      w += (0.5 * *le->shear_rate) * cross(eg, ef);
+      st.v += (le->initial_rate() * (c[g] - 0.5 * box.length(g))) * ef;
+      w += (0.5 * le->initial_rate()) * cross(eg, ef);
     }
     st.l = times(inertia, w);
     state_.push_back(st);
@@ -477,7 +477,7 @@ void RigidBodies::add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t, std::
   }
 }
 
-void RigidBodies::compute_forces(const StepContext& ctx) {
+void RigidBodies::compute_forces(const StepContext& ctx, double time) {
   const ParticleData& p = ctx.particles;
   const std::size_t nb = specs_.size();
   // Force, torque and stresslet of the pair forces on this rank's body particles, in 2^32 fixed point (the
@@ -507,6 +507,28 @@ void RigidBodies::compute_forces(const StepContext& ctx) {
     const BodySpec& b = specs_[k];
     f[k] += Vec3{b.force[0], b.force[1], b.force[2]};
     t[k] += Vec3{b.torque[0], b.torque[1], b.torque[2]};
+  }
+  if (box_.sheared() && box_.shear.omega > 0.0) {
+    // Oscillatory shear: the homogeneous-shear force of SLLOD (engine/install_lees_edwards.cpp) on every
+    // element of the body, m (d rate/dt) (x_g - L_g/2) e_f: M (d rate/dt) (X_g - L_g/2) e_f on the
+    // centre and the torque (d rate/dt) sum m a_g (a x e_f) = (d rate/dt) (M2 e_g) x e_f, with the second
+    // moment M2 = sum m a (x) a = (tr I / 2) 1 - I of the body's mass about its centre.
+    const int g = box_.shear.gradient, fa = box_.shear.flow;
+    const double accel = -box_.shear.strain_amplitude * box_.shear.omega * box_.shear.omega * std::sin(box_.shear.omega * time);
+    Vec3 ef, eg;
+    (fa == 0 ? ef.x : fa == 1 ? ef.y : ef.z) = 1.0;
+    (g == 0 ? eg.x : g == 1 ? eg.y : eg.z) = 1.0;
+    for (std::size_t k = 0; k < nb; ++k) {
+      const Vec3 c = wrapped_center(k);
+      const double cg = g == 0 ? c.x : g == 1 ? c.y : c.z;
+      f[k] += (mass_[k] * accel * (cg - 0.5 * box_.length(g))) * ef;
+      const Mat3 in = inertia(k);
+      const double half_trace = 0.5 * (in[0] + in[4] + in[8]);
+      const Vec3 second{half_trace * eg.x - (in[0] * eg.x + in[1] * eg.y + in[2] * eg.z),
+                        half_trace * eg.y - (in[3] * eg.x + in[4] * eg.y + in[5] * eg.z),
+                        half_trace * eg.z - (in[6] * eg.x + in[7] * eg.y + in[8] * eg.z)};
+      t[k] += accel * cross(second, ef);
+    }
   }
   add_contacts(f, t, st);
   for (std::size_t k = 0; k < nb; ++k) {
@@ -749,7 +771,7 @@ void RigidBodies::move(StepContext& ctx) {
   if (!ready_)
     throw ConfigError("[[body]]: the restart's checkpoint carries no rigid-body state (it was written by a run without "
                       "[[body]] blocks); start a new run instead");
-  if (!forces_known_) compute_forces(ctx);  // a new run's first step: the initial forces
+  if (!forces_known_) compute_forces(ctx, static_cast<double>(ctx.step - 1) * ctx.dt);  // a new run's initial forces
   const double dt = ctx.dt;
   for (std::size_t k = 0; k < specs_.size(); ++k) {
     BodyState& s = state_[k];
@@ -782,7 +804,7 @@ void RigidBodies::move(StepContext& ctx) {
 }
 
 void RigidBodies::kick(StepContext& ctx) {
-  compute_forces(ctx);
+  compute_forces(ctx, static_cast<double>(ctx.step) * ctx.dt);
   const double dt = ctx.dt;
   const std::size_t nb = specs_.size();
   for (std::size_t k = 0; k < nb; ++k) {

@@ -102,7 +102,9 @@ class RigidBodies {
   // simulation's own (its Lees-Edwards offset changes with time); it must outlive the bodies. Under steady
   // Lees-Edwards shear with lees_edwards.initial_profile a free body starts with the imposed flow at its
   // centre, V = rate (X_g - L_g/2) e_f, and half its vorticity, Omega = (rate/2) e_g x e_f, added to its
-  // velocity and angular_velocity.
+  // velocity and angular_velocity (oscillatory shear: its rate at t = 0). Under oscillatory shear each body
+  // also feels the homogeneous-shear (SLLOD) force that the fluid's particles feel, summed over its mass:
+  // M (d rate/dt) (X_g - L_g/2) along f and the torque (d rate/dt) (M2 e_g) x e_f (M2 = sum m a (x) a).
   RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spec, const Box& box, bool half_velocity);
 
   // The solids moved here (by solid index): ReleasedSolids for the walls.
@@ -178,7 +180,8 @@ class RigidBodies {
   long find(std::uint32_t id) const;
   // find() of every local particle, kept for the storage order it was made for (ParticleData::generation).
   const std::vector<std::int32_t>& slots(const ParticleData& p);
-  void compute_forces(const StepContext& ctx);
+  // The forces at time t (the oscillatory shear's homogeneous force depends on it).
+  void compute_forces(const StepContext& ctx, double t);
   void add_contacts(std::vector<Vec3>& f, std::vector<Vec3>& t, std::vector<Sym6>& s) const;
   void bounce(StepContext& ctx);
   void place(StepContext& ctx, bool positions);
