@@ -121,6 +121,9 @@ struct Body {
   std::array<double, 4> orientation{1, 0, 0, 0};  // unit quaternion w, x, y, z: body frame to lab frame
   std::array<double, 3> velocity{}, angular_velocity{};
   std::array<double, 3> force{}, torque{};       // of this step: pair forces, bounce-backs, external, contacts
+  // Of this step: the stresslet, the symmetric first moment of the forces on it about its centre (xx, yy,
+  // zz, xy, xz, yz; the body's share of the stress, docs/physics.md "The stress of a suspension").
+  std::array<double, 6> stresslet{};
 };
 
 class Simulation {

@@ -313,8 +313,9 @@ class Simulation:
         """The [[body]] rigid bodies now, in block order: a list of dicts with solid (the [[solid]] name),
         mass, particles (its frozen particles), and arrays position (centre of mass, unwrapped),
         orientation (unit quaternion w, x, y, z), velocity, angular_velocity, force and torque (of the
-        last step: pair forces, bounce-backs, external force, contacts). Empty without bodies; the same
-        on every rank."""
+        last step: pair forces, bounce-backs, external force, contacts) and stresslet (xx, yy, zz, xy,
+        xz, yz: the symmetric first moment of the last step's forces on it about its centre). Empty
+        without bodies; the same on every rank."""
         return self._core.bodies()
 
     def fields(self):

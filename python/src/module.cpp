@@ -542,6 +542,7 @@ PYBIND11_MODULE(_core, m) {
                d["angular_velocity"] = copy(std::vector<double>(b.angular_velocity.begin(), b.angular_velocity.end()));
                d["force"] = copy(std::vector<double>(b.force.begin(), b.force.end()));
                d["torque"] = copy(std::vector<double>(b.torque.begin(), b.torque.end()));
+               d["stresslet"] = copy(std::vector<double>(b.stresslet.begin(), b.stresslet.end()));
                out.append(d);
              }
              return out;

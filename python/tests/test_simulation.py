@@ -308,6 +308,8 @@ def test_rigid_bodies_are_read_as_arrays(tmp_path):
     assert np.allclose(b["position"], [5.5, 5.0, 5.0], atol=1e-9)
     assert np.allclose(b["orientation"], [np.cos(0.5), 0, 0, np.sin(0.5)], atol=1e-9)
     assert b["force"].shape == (3,) and np.all(np.isfinite(b["torque"]))
+    # The fluid's pressure pushes in on the sphere: the stresslet's trace is negative (about -3 p V).
+    assert b["stresslet"].shape == (6,) and b["stresslet"][:3].sum() < 0
     assert mesodpd.Simulation.from_string(SPDPD).bodies() == []
     # bodies.gsd: one particle per body, with its orientation, so OVITO draws it turned.
     gsd_hoomd = pytest.importorskip("gsd.hoomd")

@@ -304,6 +304,7 @@ std::vector<Body> Simulation::bodies() const {
     b.angular_velocity = {w.x, w.y, w.z};
     b.force = {f.x, f.y, f.z};
     b.torque = {t.x, t.y, t.z};
+    b.stresslet = rb->stresslet(k);
     out.push_back(std::move(b));
   }
   return out;
