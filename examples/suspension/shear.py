@@ -41,12 +41,13 @@ def write_config(args, path):
         text = f.read()
     steps = int(round(args.time / args.dt))
     start = int(round(args.start / args.dt))
-    text = text.replace("box = [24, 24, 24]", f"box = [{args.box}, {args.box}, {args.box}]")
-    text = text.replace("seed = 61", f"seed = {args.seed}")
-    text = text.replace("shear_rate = 0.05", f"shear_rate = {args.rate}")
-    text = text.replace("equilibrate = 2500", f"equilibrate = {start}")
-    text = text.replace("dt = 0.02", f"dt = {args.dt}")
-    text = text.replace("steps = 25000", f"steps = {steps}")
+    for old, new in [("box = [24, 24, 24]", f"box = [{args.box}, {args.box}, {args.box}]"),
+                     ("seed = 61", f"seed = {args.seed}"), ("shear_rate = 0.05", f"shear_rate = {args.rate}"),
+                     ("equilibrate = 2500", f"equilibrate = {start}"), ("dt = 0.02", f"dt = {args.dt}"),
+                     ("steps = 25000", f"steps = {steps}")]:
+        if old not in text:  # base.toml changed: say so rather than run the wrong config
+            sys.exit(f"shear.py: '{old}' is not in base.toml")
+        text = text.replace(old, new)
     if args.phi > 0:
         spheres = subprocess.run(
             ["/usr/bin/python3", os.path.join(ROOT, "examples", "colloids", "place_bodies.py"), "--box", str(args.box),

@@ -109,4 +109,16 @@ MESODPD_HD void wrap_coordinate(double& x, std::int32_t& image, double len) {
   }
 }
 
+// Lees-Edwards crossing of the gradient faces (box sheared): wraps the gradient coordinate r_g (image
+// counter i_g) into [0, L_g) and moves the flow coordinate r_f by -k offset, k the crossings (returned:
+// the flow velocity then changes by -k velocity). The engine's wrap of the particles and the rigid bodies'
+// wrap of their centres and particles share it, so a body's image sits where a particle's would.
+inline double wrap_sheared_gradient(const Box& box, double& r_g, std::int32_t& i_g, double& r_f) {
+  const std::int32_t before = i_g;
+  wrap_coordinate(r_g, i_g, box.length(box.shear.gradient));
+  const double k = static_cast<double>(i_g - before);
+  if (k != 0.0) r_f -= k * box.shear.offset;
+  return k;
+}
+
 }  // namespace mesodpd

@@ -19,5 +19,14 @@ MESODPD_HD Vec3& operator+=(Vec3& a, Vec3 b) {
   a.z += b.z;
   return a;
 }
+MESODPD_HD Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+// Component a (0: x, 1: y, 2: z), and the unit vector along axis a.
+MESODPD_HD double& component(Vec3& v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+MESODPD_HD double component(const Vec3& v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+MESODPD_HD Vec3 axis_vector(int a) {
+  Vec3 e;
+  component(e, a) = 1.0;
+  return e;
+}
 
 }  // namespace mesodpd

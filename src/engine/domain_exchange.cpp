@@ -22,14 +22,11 @@ std::optional<EscapedParticle> apply_box_boundaries(ParticleData& p, const Box& 
     double* vf = v[0][f]->data();
     double* hf = v[1][f]->data();
     const bool half = p.hx.size() >= n;
-    const double lg = box.length(g), off = box.shear.offset, du = box.shear.velocity;
+    const double du = box.shear.velocity;
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      const std::int32_t before = ig[i];
-      wrap_coordinate(rg[i], ig[i], lg);
-      const double k = static_cast<double>(ig[i] - before);
+      const double k = wrap_sheared_gradient(box, rg[i], ig[i], rf[i]);
       if (k != 0.0) {
-        rf[i] -= k * off;
         vf[i] -= k * du;
         if (half) hf[i] -= k * du;
       }

@@ -70,7 +70,6 @@ struct MembraneSpec {
 
 namespace {
 
-using membrane::cross;
 using membrane::norm;
 
 const keys::KeyTable<MembraneSpec>& membrane_keys() {

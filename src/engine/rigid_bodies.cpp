@@ -112,14 +112,7 @@ void bounds(const ShapeSpec& s, const std::string& key, Vec3& lo, Vec3& hi) {
 // axis. Returns k, the crossings of the gradient faces (the velocity then changes by -k dU along f);
 // `image` counts the crossings per axis.
 double wrap_point(const Box& box, double r[3], std::int32_t image[3]) {
-  double k = 0.0;
-  if (box.sheared()) {
-    const int g = box.shear.gradient, f = box.shear.flow;
-    const std::int32_t before = image[g];
-    wrap_coordinate(r[g], image[g], box.length(g));
-    k = static_cast<double>(image[g] - before);
-    r[f] -= k * box.shear.offset;
-  }
+  const double k = box.sheared() ? wrap_sheared_gradient(box, r[box.shear.gradient], image[box.shear.gradient], r[box.shear.flow]) : 0.0;
   for (int a = 0; a < 3; ++a)
     if (box.periodic[static_cast<std::size_t>(a)]) wrap_coordinate(r[a], image[a], box.length(a));
   return k;
@@ -241,14 +234,11 @@ RigidBodies::RigidBodies(std::vector<BodySpec> bodies, const SimulationSpec& spe
     if (le && le->initial_profile && b.motion == BodyMotion::Free) {
       // The imposed flow u = rate x_g e_f (zero at the middle of g) at the centre, and half its vorticity.
       const int f = le->flow, g = le->gradient;
-      double c[3] = {st.x.x, st.x.y, st.x.z};
+      double cg = component(st.x, g);
       std::int32_t image = 0;
-      wrap_coordinate(c[g], image, box.length(g));
-      Vec3 ef, eg;
-      (f == 0 ? ef.x : f == 1 ? ef.y : ef.z) = 1.0;
-      (g == 0 ? eg.x : g == 1 ? eg.y : eg.z) = 1.0;
-      st.v += (le->initial_rate() * (c[g] - 0.5 * box.length(g))) * ef;
-      w += (0.5 * le->initial_rate()) * cross(eg, ef);
+      wrap_coordinate(cg, image, box.length(g));
+      st.v += (le->initial_rate() * (cg - 0.5 * box.length(g))) * axis_vector(f);
+      w += (0.5 * le->initial_rate()) * cross(axis_vector(g), axis_vector(f));
     }
     st.l = times(inertia, w);
     state_.push_back(st);
@@ -278,9 +268,7 @@ std::array<double, 9> RigidBodies::inertia(std::size_t k) const {
   Mat3 out{};
   const Quat& q = state_[k].q;
   for (int b = 0; b < 3; ++b) {
-    Vec3 e;
-    (b == 0 ? e.x : b == 1 ? e.y : e.z) = 1.0;
-    const Vec3 col = rotate(q, times(inertia_body_[k], rotate_back(q, e)));
+    const Vec3 col = rotate(q, times(inertia_body_[k], rotate_back(q, axis_vector(b))));
     out[static_cast<std::size_t>(b)] = col.x;
     out[static_cast<std::size_t>(3 + b)] = col.y;
     out[static_cast<std::size_t>(6 + b)] = col.z;
@@ -417,7 +405,7 @@ void RigidBodies::check_box(std::uint64_t step) const {
   for (std::size_t k = 0; k < specs_.size(); ++k)
     for (int a = 0; a < 3; ++a) {
       if (box_.periodic[static_cast<std::size_t>(a)]) continue;
-      const double c = a == 0 ? state_[k].x.x : a == 1 ? state_[k].x.y : state_[k].x.z;
+      const double c = component(state_[k].x, a);
       if (c - radius_[k] < 0 || c + radius_[k] > box_.length(a))
         throw BlowUpError(step, 0,
                           fmt::format("body[{}] (solid '{}') left the box along {} at step {}: its centre is at {:.6g} "
@@ -513,14 +501,11 @@ void RigidBodies::compute_forces(const StepContext& ctx, double time) {
     // element of the body, m (d rate/dt) (x_g - L_g/2) e_f: M (d rate/dt) (X_g - L_g/2) e_f on the
     // centre and the torque (d rate/dt) sum m a_g (a x e_f) = (d rate/dt) (M2 e_g) x e_f, with the second
     // moment M2 = sum m a (x) a = (tr I / 2) 1 - I of the body's mass about its centre.
-    const int g = box_.shear.gradient, fa = box_.shear.flow;
+    const int g = box_.shear.gradient;
     const double accel = -box_.shear.strain_amplitude * box_.shear.omega * box_.shear.omega * std::sin(box_.shear.omega * time);
-    Vec3 ef, eg;
-    (fa == 0 ? ef.x : fa == 1 ? ef.y : ef.z) = 1.0;
-    (g == 0 ? eg.x : g == 1 ? eg.y : eg.z) = 1.0;
+    const Vec3 ef = axis_vector(box_.shear.flow), eg = axis_vector(g);
     for (std::size_t k = 0; k < nb; ++k) {
-      const Vec3 c = wrapped_center(k);
-      const double cg = g == 0 ? c.x : g == 1 ? c.y : c.z;
+      const double cg = component(wrapped_center(k), g);
       f[k] += (mass_[k] * accel * (cg - 0.5 * box_.length(g))) * ef;
       const Mat3 in = inertia(k);
       const double half_trace = 0.5 * (in[0] + in[4] + in[8]);
@@ -568,10 +553,7 @@ void RigidBodies::place(StepContext& ctx, bool positions) {
       p.iz[i] = image[2];
     }
     Vec3 v = s.v + cross(omega[k], arm);
-    if (crossed != 0.0) {
-      const int f = box_.shear.flow;
-      (f == 0 ? v.x : f == 1 ? v.y : v.z) -= crossed * box_.shear.velocity;
-    }
+    if (crossed != 0.0) component(v, box_.shear.flow) -= crossed * box_.shear.velocity;
     p.vx[i] = p.hx[i] = v.x;
     p.vy[i] = p.hy[i] = v.y;
     p.vz[i] = p.hz[i] = v.z;
@@ -665,7 +647,7 @@ void RigidBodies::bounce(StepContext& ctx) {
         // body came onto it) mirrored through the surface.
         // The particle's velocity in the frame of the body's image it is in (Lees-Edwards: -image dU e_f).
         Vec3 h_now{vel[0][i], vel[1][i], vel[2][i]};
-        if (image != 0.0) (shear_flow == 0 ? h_now.x : shear_flow == 1 ? h_now.y : h_now.z) -= image * box_.shear.velocity;
+        if (image != 0.0) component(h_now, shear_flow) -= image * box_.shear.velocity;
         const Vec3 u = rotate_back(q, h_now - (state_[k].v + cross(omega[k], rotate(q, b))));
         const double un = dot(u, nrm);
         Vec3 out = b - 2.0 * depth * nrm;
@@ -736,8 +718,7 @@ void RigidBodies::bounce(StepContext& ctx) {
       const Mat3& inv = inverse_inertia[k];
       Mat3 a{};
       for (int c = 0; c < 3; ++c) {
-        Vec3 e;
-        (c == 0 ? e.x : c == 1 ? e.y : e.z) = 1.0;
+        const Vec3 e = axis_vector(c);
         const Vec3 col = (1.0 / h.mass + 1.0 / mass_[k]) * e + cross(times(inv, cross(h.arm, e)), h.arm);
         a[static_cast<std::size_t>(c)] = col.x;
         a[static_cast<std::size_t>(3 + c)] = col.y;
@@ -789,13 +770,9 @@ void RigidBodies::move(StepContext& ctx) {
       // Across the sheared faces the centre comes back at the other face, moved by the image offset and
       // slowed by the image velocity along the flow axis, as a fluid particle does (so X_g stays in the
       // box; the other coordinates stay unwrapped).
-      const int g = box_.shear.gradient, f = box_.shear.flow;
-      double* c[3] = {&s.x.x, &s.x.y, &s.x.z};
-      double* u[3] = {&s.v.x, &s.v.y, &s.v.z};
       std::int32_t image = 0;
-      wrap_coordinate(*c[g], image, box_.length(g));
-      *c[f] -= image * box_.shear.offset;
-      *u[f] -= image * box_.shear.velocity;
+      const double k = wrap_sheared_gradient(box_, component(s.x, box_.shear.gradient), image, component(s.x, box_.shear.flow));
+      component(s.v, box_.shear.flow) -= k * box_.shear.velocity;
     }
   }
   check_box(ctx.step);
@@ -827,11 +804,8 @@ void RigidBodies::kick(StepContext& ctx) {
   const int f = box_.shear.flow, g = box_.shear.gradient;
   for (std::size_t k = 0; k < nb; ++k) {
     Vec3 u = state_[k].v;
-    if (box_.sheared()) {
-      const Vec3 c = wrapped_center(k);
-      const double cg = g == 0 ? c.x : g == 1 ? c.y : c.z;
-      (f == 0 ? u.x : f == 1 ? u.y : u.z) -= box_.shear.current_rate * (cg - 0.5 * box_.length(g));
-    }
+    if (box_.sheared())
+      component(u, f) -= box_.shear.current_rate * (component(wrapped_center(k), g) - 0.5 * box_.length(g));
     Sym6 w = sym_outer(u, u);
     for (double& x : w) x *= mass_[k];
     add_to(w, stresslet_[k], -1.0);

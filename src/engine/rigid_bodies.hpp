@@ -33,9 +33,6 @@ struct Quat {
   double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
 };
 Quat operator*(const Quat& a, const Quat& b);
-inline Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
 // R(q) v, as v + 2 w (u x v) + 2 u x (u x v) with u the vector part.
 inline Vec3 rotate(const Quat& q, const Vec3& v) {
   const Vec3 u{q.x, q.y, q.z};

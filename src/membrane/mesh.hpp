@@ -15,8 +15,7 @@
 
 namespace mesodpd::membrane {
 
-// Vector helpers the membrane code shares (core's Vec3 has only the operations the pair laws need).
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+// Vector helpers the membrane code shares (core's Vec3 has no norm).
 inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
 
 struct Mesh {
