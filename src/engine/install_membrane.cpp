@@ -443,20 +443,30 @@ class VertexGather {
     const std::size_t width = velocities_ ? 7 : 4;
     std::vector<double> mine;  // id, x, y, z[, vx, vy, vz] of the owned vertices
     std::size_t found = 0;
-    for (std::size_t i = 0; i < p.n_local; ++i) {
-      const std::uint32_t id = p.id[i];
-      if (id < first_ || id >= first_ + count_) continue;
-      const Vec3 r{p.x[i] + p.ix[i] * lx, p.y[i] + p.iy[i] * ly, p.z[i] + p.iz[i] * lz};
-      if (ctx.comm.distributed()) {
+    const auto unwrapped = [&](std::size_t i) {
+      return Vec3{p.x[i] + p.ix[i] * lx, p.y[i] + p.iy[i] * ly, p.z[i] + p.iz[i] * lz};
+    };
+    if (!ctx.comm.distributed()) {
+      // Every vertex is here: each thread writes the vertices it finds into their own places.
+      const auto n = static_cast<std::ptrdiff_t>(p.n_local);
+#pragma omp parallel for schedule(static) reduction(+ : found)
+      for (std::ptrdiff_t k = 0; k < n; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        const std::uint32_t id = p.id[i];
+        if (id < first_ || id >= first_ + count_) continue;
+        x_[id - first_] = unwrapped(i);
+        if (velocities_) v_[id - first_] = vel(p, i);
+        ++found;
+      }
+    } else {
+      for (std::size_t i = 0; i < p.n_local; ++i) {
+        const std::uint32_t id = p.id[i];
+        if (id < first_ || id >= first_ + count_) continue;
+        const Vec3 r = unwrapped(i);
         mine.insert(mine.end(), {static_cast<double>(id), r.x, r.y, r.z});
         if (velocities_) mine.insert(mine.end(), {vel(p, i).x, vel(p, i).y, vel(p, i).z});
-      } else {
-        x_[id - first_] = r;
-        if (velocities_) v_[id - first_] = vel(p, i);
+        ++found;
       }
-      ++found;
-    }
-    if (ctx.comm.distributed()) {
       std::vector<std::byte> bytes(mine.size() * sizeof(double));
       std::memcpy(bytes.data(), mine.data(), bytes.size());
       std::vector<std::byte> all = ctx.comm.gather(bytes);
@@ -783,8 +793,14 @@ class MembraneBounceStage final : public Stage {
                       std::uint32_t count)
       : cells_(cells), bounce_(std::move(bounce)), movers_(std::move(movers)),
         gather_(first, count, VertexGather::Velocities::HalfStep), momentum_(count) {
-    for (std::uint32_t c = 0; c < cells_.size(); ++c)
-      for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) triangles_.push_back({c, t});
+    for (std::uint32_t c = 0; c < cells_.size(); ++c) {
+      const std::uint32_t off = cells_[c].first - gather_.first();
+      for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) {
+        const auto& tri = cells_[c].model.mesh().triangles[t];
+        triangles_.push_back({c, t});
+        corners_.push_back({off + tri[0], off + tri[1], off + tri[2]});
+      }
+    }
     swept_.resize(triangles_.size());
   }
 
@@ -794,22 +810,15 @@ class MembraneBounceStage final : public Stage {
     const double dt = ctx.dt;
     ParticleData& p = ctx.particles;
     const Box& box = ctx.box;
-    // How far a path's end may lie from a triangle it meets: the particle's move, or after a contact
-    // (velocity h - (2 mu / m)(h - u), 2 mu / m <= 2) at most its speed plus twice the fastest vertex's.
-    double fastest2 = 0, vertex_fastest = 0;
     std::size_t moving = 0;
     const auto n_local = static_cast<std::ptrdiff_t>(p.n_local);
-#pragma omp parallel for schedule(static) reduction(max : fastest2) reduction(+ : moving)
+#pragma omp parallel for schedule(static) reduction(+ : moving)
     for (std::ptrdiff_t i = 0; i < n_local; ++i)
-      if (movers_(p, static_cast<std::size_t>(i))) {
-        fastest2 = std::max(fastest2, p.hx[i] * p.hx[i] + p.hy[i] * p.hy[i] + p.hz[i] * p.hz[i]);
-        ++moving;
-      }
-    for (const Vec3& v : h) vertex_fastest = std::max(vertex_fastest, norm(v));
+      if (movers_(p, static_cast<std::size_t>(i))) ++moving;
     std::vector<double> hits;  // per contact: particle id, three vertex indices, three weights, dp
     // A rank with no solvent (a membrane alone) has nothing to test; it still takes part in the gather.
     if (moving > 0) {
-      bin_triangles(box, x1, h, dt, dt * (std::sqrt(fastest2) + 2 * vertex_fastest) + 1e-9);
+      bin_triangles(box, x1, h, dt);
       // Threads take particles in blocks and keep their contacts apart; give_to_vertices orders all
       // contacts by particle id, so the vertices' kicks do not depend on the thread count.
       std::uint64_t unresolved = 0;
@@ -842,8 +851,10 @@ class MembraneBounceStage final : public Stage {
     const double dt = ctx.dt;
     if (!movers_(p, i)) return 0;
     const Vec3 r{p.x[i], p.y[i], p.z[i]};
-    const std::size_t bin = locate(box, r).bin;
-    if (bin_start_[bin] == bin_start_[bin + 1]) return 0;
+    {  // most particles are far from every membrane: their step lies in one bin that lists nothing
+      const std::size_t bin = locate(box, r).bin;
+      if (bin_start_[bin] == bin_start_[bin + 1] && locate(box, r - dt * Vec3{p.hx[i], p.hy[i], p.hz[i]}).bin == bin) return 0;
+    }
     // The path of this step, then after each contact the rest of the step from the contact point with
     // the reflected velocity, until a path meets nothing (at most kRounds contacts).
     Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
@@ -856,61 +867,72 @@ class MembraneBounceStage final : public Stage {
     int rounds = 0;
     const double m = ctx.species_mass[static_cast<std::size_t>(p.species[i])];
     for (; rounds < kRounds; ++rounds) {
-      const Located where = locate(box, end);
       double best = 2.0;
+      std::uint32_t best_g = ~0u;
       membrane::Hit hit;
       std::array<std::uint32_t, 3> corners{};
       std::uint32_t hit_cell = 0, hit_tri = 0;
       Vec3 shift;
       // The path's box, as centre and half extents, for a quick test against each candidate's swept box
       // at the nearest image: it rejects only what the exact test below would reject (the boxes are
-      // far smaller than half the box), without reading the triangle's corners.
+      // far smaller than half the box), without reading the triangle's corners. A triangle whose box
+      // meets the path's is listed in a bin that both boxes cover: the candidates are the triangles
+      // listed in the bins the path's box covers (usually one).
       const Vec3 pc = 0.5 * (start + end);
       const Vec3 ph{0.5 * std::abs(end.x - start.x), 0.5 * std::abs(end.y - start.y), 0.5 * std::abs(end.z - start.z)};
-      // First in single precision against the slots' boxes in the wrapped frame, contiguous in memory.
-      const float fc[3] = {static_cast<float>(pc.x - static_cast<double>(where.image[0]) * box.len.x),
-                           static_cast<float>(pc.y - static_cast<double>(where.image[1]) * box.len.y),
-                           static_cast<float>(pc.z - static_cast<double>(where.image[2]) * box.len.z)};
-      const float fh[3] = {static_cast<float>(ph.x), static_cast<float>(ph.y), static_cast<float>(ph.z)};
-      // Branch-free over blocks of slots, the survivors (about one in a thousand) then in slot order.
-      const std::size_t k_end = bin_start_[where.bin + 1];
-      for (std::size_t base = bin_start_[where.bin]; base < k_end; base += kBlock) {
-        std::array<std::uint32_t, kBlock> pass;
-        std::size_t np = 0;
-        const std::size_t block_end = std::min(k_end, base + kBlock);
-        for (std::size_t k = base; k < block_end; ++k) {
-          const SlotBox& sb = slot_boxes_[k];
-          const bool in = (std::abs(fc[0] - sb.c[0]) <= fh[0] + sb.h[0]) & (std::abs(fc[1] - sb.c[1]) <= fh[1] + sb.h[1]) &
-                          (std::abs(fc[2] - sb.c[2]) <= fh[2] + sb.h[2]);
-          pass[np] = static_cast<std::uint32_t>(k - base);
-          np += in ? 1 : 0;
-        }
-        for (std::size_t q = 0; q < np; ++q) {
-          const std::size_t k = base + pass[q];
-          const std::uint32_t g = slot_boxes_[k].triangle;
-          const auto [c, t] = triangles_[g];
-          if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
-          // The survivors' swept boxes again, in double precision at the nearest image.
-          const Box3& tb = swept_[g];
-          if (!near_box(box, pc, ph, tb)) continue;
-          const std::array<std::uint32_t, 3> v = corners_of(c, t);
-          const Vec3 s = image_shift(box, end, x1[v[0]]);
-          const Vec3 ps = start + s, pe = end + s;
-          if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
-              std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
-            continue;
-          const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
-          const auto a = membrane::first_contact(start + s, end + s, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
-          if (a && a->t < best) {
-            best = a->t;
-            hit = *a;
-            corners = v;
-            shift = s;
-            hit_cell = c;
-            hit_tri = t;
+      bool spans = false;  // the path's bins are the whole of a periodic axis (a box of a few bins)
+      const AxisRun runs[3] = {axis_run(box, 0, pc.x - ph.x, pc.x + ph.x, spans), axis_run(box, 1, pc.y - ph.y, pc.y + ph.y, spans),
+                               axis_run(box, 2, pc.z - ph.z, pc.z + ph.z, spans)};
+      const float inf = std::numeric_limits<float>::infinity();
+      const float fh[3] = {spans ? inf : static_cast<float>(ph.x), spans ? inf : static_cast<float>(ph.y), spans ? inf : static_cast<float>(ph.z)};
+      for_bins(runs, [&](std::size_t bin, const std::array<long, 3>& image) {
+        // First in single precision against the slots' boxes in the wrapped frame (the bin's image taken
+        // off), contiguous in memory; branch-free over blocks of slots, the survivors (a few in a
+        // thousand) then in slot order.
+        const float fc[3] = {static_cast<float>(pc.x - static_cast<double>(image[0]) * box.len.x),
+                             static_cast<float>(pc.y - static_cast<double>(image[1]) * box.len.y),
+                             static_cast<float>(pc.z - static_cast<double>(image[2]) * box.len.z)};
+        const std::size_t k_end = bin_start_[bin + 1];
+        for (std::size_t base = bin_start_[bin]; base < k_end; base += kBlock) {
+          std::array<std::uint32_t, kBlock> pass;
+          std::size_t np = 0;
+          const std::size_t block_end = std::min(k_end, base + kBlock);
+          for (std::size_t k = base; k < block_end; ++k) {
+            const SlotBox& sb = slot_boxes_[k];
+            const bool in = (std::abs(fc[0] - sb.c[0]) <= fh[0] + sb.h[0]) & (std::abs(fc[1] - sb.c[1]) <= fh[1] + sb.h[1]) &
+                            (std::abs(fc[2] - sb.c[2]) <= fh[2] + sb.h[2]);
+            pass[np] = static_cast<std::uint32_t>(k - base);
+            np += in ? 1 : 0;
+          }
+          for (std::size_t q = 0; q < np; ++q) {
+            const std::uint32_t g = slot_boxes_[base + pass[q]].triangle;
+            const auto [c, t] = triangles_[g];
+            if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
+            // The survivors' swept boxes again, in double precision at the nearest image.
+            const Box3& tb = swept_[g];
+            if (!near_box(box, pc, ph, tb)) continue;
+            const std::array<std::uint32_t, 3>& v = corners_[g];
+            const Vec3 s = image_shift(box, end, x1[v[0]]);
+            const Vec3 ps = start + s, pe = end + s;
+            if (std::max(ps.x, pe.x) < tb.lo.x || std::min(ps.x, pe.x) > tb.hi.x || std::max(ps.y, pe.y) < tb.lo.y ||
+                std::min(ps.y, pe.y) > tb.hi.y || std::max(ps.z, pe.z) < tb.lo.z || std::min(ps.z, pe.z) > tb.hi.z)
+              continue;
+            const auto at = [&](std::uint32_t k) { return x1[k] - ((1.0 - t0) * dt) * h[k]; };
+            const auto a = membrane::first_contact(ps, pe, at(v[0]), x1[v[0]], at(v[1]), x1[v[1]], at(v[2]), x1[v[2]]);
+            // The earliest contact; between equal times the first triangle in (cell, triangle) order,
+            // whichever bin listed it first.
+            if (a && (a->t < best || (a->t == best && g < best_g))) {
+              best = a->t;
+              best_g = g;
+              hit = *a;
+              corners = v;
+              shift = s;
+              hit_cell = c;
+              hit_tri = t;
+            }
           }
         }
-      }
+      });
       if (best > 1.0) break;
       const Vec3 contact = start + best * (end - start);
       const Vec3 u = hit.w[0] * h[corners[0]] + hit.w[1] * h[corners[1]] + hit.w[2] * h[corners[2]];
@@ -975,12 +997,6 @@ class MembraneBounceStage final : public Stage {
              apart(2, pc.z, ph.z, tb.lo.z, tb.hi.z));
   }
 
-  std::array<std::uint32_t, 3> corners_of(std::uint32_t c, std::uint32_t t) const {
-    const Cell& cell = cells_[c];
-    const auto& tri = cell.model.mesh().triangles[t];
-    const std::uint32_t off = cell.first - gather_.first();
-    return {off + tri[0], off + tri[1], off + tri[2]};
-  }
 
   // Along axis d: the bin of coordinate v, and the image of v (0 on a bounded axis, whose end bins take
   // what lies beyond).
@@ -1021,7 +1037,7 @@ class MembraneBounceStage final : public Stage {
   };
   // Along axis d, for [lo, hi]; `exact` set where it spans a whole periodic axis. The bins are distinct,
   // as the range is shorter than the axis or is the whole axis.
-  AxisRun axis_run(const Box& box, int d, double lo, double hi, bool& exact) const {
+  [[gnu::always_inline]] AxisRun axis_run(const Box& box, int d, double lo, double hi, bool& exact) const {
     const auto u = static_cast<std::size_t>(d);
     long from = floor_of(lo * inv_width_[u]), to = floor_of(hi * inv_width_[u]);
     const auto n = static_cast<long>(bins_[u]);
@@ -1039,13 +1055,33 @@ class MembraneBounceStage final : public Stage {
     return run;
   }
 
+  // Visits the bins of three axis runs, x fastest, with their images (whole box lengths along each axis).
+  template <class Visit>
+  void for_bins(const AxisRun (&r)[3], Visit&& visit) const {
+    const auto nx = static_cast<long>(bins_[0]), ny = static_cast<long>(bins_[1]), nz = static_cast<long>(bins_[2]);
+    long k = r[2].first, ik = r[2].image;
+    for (long a = 0; a < r[2].count; ++a) {
+      long j = r[1].first, ij = r[1].image;
+      for (long b = 0; b < r[1].count; ++b) {
+        const auto row = static_cast<std::size_t>((k * ny + j) * nx);
+        long i = r[0].first, ii = r[0].image;
+        for (long c = 0; c < r[0].count; ++c) {
+          visit(row + static_cast<std::size_t>(i), std::array<long, 3>{ii, ij, ik});
+          if (++i == nx) i = 0, ++ii;
+        }
+        if (++j == ny) j = 0, ++ij;
+      }
+      if (++k == nz) k = 0, ++ik;
+    }
+  }
+
   // Lists each triangle in the bins (at least kBinWidth wide) that its box over this step's move (its
-  // corners at the start and the end of the step), widened by `reach`, covers, at their images: a
-  // counting sort in two passes over the same blocks of triangles per thread, the first finding the
-  // boxes and counting per bin and thread, the second writing each thread's triangles after those of the
-  // threads before it. So each bin lists its triangles in (cell, triangle) order, whatever the thread
-  // count: the order in which candidates are tried, and so the contact chosen between equal times.
-  void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt, double reach) {
+  // corners at the start and the end of the step) covers, at their images: a counting sort in two
+  // passes over the same blocks of triangles per thread, the first finding the boxes and counting per bin
+  // and thread, the second writing each thread's triangles after those of the threads before it. So each
+  // bin lists its triangles in (cell, triangle) order, whatever the thread count (the contact chosen
+  // does not depend on the order: bounce_particle).
+  void bin_triangles(const Box& box, const std::vector<Vec3>& x1, const std::vector<Vec3>& h, double dt) {
     for (int d = 0; d < 3; ++d) {
       const auto u = static_cast<std::size_t>(d);
       bins_[u] = std::max<std::size_t>(1, static_cast<std::size_t>(box.length(d) / kBinWidth));
@@ -1056,8 +1092,8 @@ class MembraneBounceStage final : public Stage {
     bin_start_.resize(n_bins + 1);
     // The pad covers the single-precision rounding of both sides' coordinates in bounce_particle's first
     // test (within a few box lengths of the origin), so that test passes whatever near_box passes: a slot
-    // that is not `exact` lists the only image at which a path ending in its bin can meet its box, as the
-    // bins it covers span less than the axis and a path lies within the reach of its end.
+    // that is not `exact` lists the only image at which a path whose box covers its bin can meet its box,
+    // as the bins it covers span less than the axis.
     const double pad = 1e-5 * (1.0 + std::max({box.len.x, box.len.y, box.len.z}));
     const double len[3] = {box.len.x, box.len.y, box.len.z};
 #pragma omp parallel
@@ -1073,30 +1109,14 @@ class MembraneBounceStage final : public Stage {
       const auto each_bin = [&](std::size_t g, auto&& visit) {
         const Box3& tb = swept_[g];
         bool exact = false;
-        const AxisRun rx = axis_run(box, 0, tb.lo.x - reach, tb.hi.x + reach, exact);
-        const AxisRun ry = axis_run(box, 1, tb.lo.y - reach, tb.hi.y + reach, exact);
-        const AxisRun rz = axis_run(box, 2, tb.lo.z - reach, tb.hi.z + reach, exact);
-        const auto nx = static_cast<long>(bins_[0]), ny = static_cast<long>(bins_[1]), nz = static_cast<long>(bins_[2]);
-        long k = rz.first, ik = rz.image;
-        for (long a = 0; a < rz.count; ++a) {
-          long j = ry.first, ij = ry.image;
-          for (long b = 0; b < ry.count; ++b) {
-            const auto row = static_cast<std::size_t>((k * ny + j) * nx);
-            long i = rx.first, ii = rx.image;
-            for (long c = 0; c < rx.count; ++c) {
-              visit(row + static_cast<std::size_t>(i), std::array<long, 3>{ii, ij, ik}, exact);
-              if (++i == nx) i = 0, ++ii;
-            }
-            if (++j == ny) j = 0, ++ij;
-          }
-          if (++k == nz) k = 0, ++ik;
-        }
+        const AxisRun r[3] = {axis_run(box, 0, tb.lo.x, tb.hi.x, exact), axis_run(box, 1, tb.lo.y, tb.hi.y, exact),
+                              axis_run(box, 2, tb.lo.z, tb.hi.z, exact)};
+        for_bins(r, [&](std::size_t bin, const std::array<long, 3>& image) { visit(bin, image, exact); });
       };
       for (std::size_t g = g0; g < g1; ++g) {
-        const auto [c, t] = triangles_[g];
-        if (!bounce_[c]) continue;
+        if (!bounce_[triangles_[g].first]) continue;
         Box3 b{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
-        for (std::uint32_t k : corners_of(c, t))
+        for (std::uint32_t k : corners_[g])
           for (const Vec3& q : {x1[k], x1[k] - dt * h[k]}) {
             b.lo = {std::min(b.lo.x, q.x), std::min(b.lo.y, q.y), std::min(b.lo.z, q.z)};
             b.hi = {std::max(b.hi.x, q.x), std::max(b.hi.y, q.y), std::max(b.hi.z, q.z)};
@@ -1187,7 +1207,10 @@ class MembraneBounceStage final : public Stage {
     }
     ParticleData& p = ctx.particles;
     const std::uint32_t first = gather_.first(), end = first + static_cast<std::uint32_t>(momentum_.size());
-    for (std::size_t i = 0; i < p.n_local; ++i) {
+    const auto n_local = static_cast<std::ptrdiff_t>(p.n_local);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < n_local; ++k) {
+      const auto i = static_cast<std::size_t>(k);
       if (p.id[i] < first || p.id[i] >= end) continue;
       const Vec3 g = (1.0 / ctx.species_mass[static_cast<std::size_t>(p.species[i])]) * momentum_[p.id[i] - first];
       p.hx[i] += g.x;
@@ -1207,6 +1230,7 @@ class MembraneBounceStage final : public Stage {
   std::array<std::size_t, 3> bins_{1, 1, 1};
   std::array<double, 3> inv_width_{1, 1, 1};  // bins per unit length along each axis
   std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles_;  // (cell, triangle) of every triangle, in order
+  std::vector<std::array<std::uint32_t, 3>> corners_;                // each one's corners among the gathered vertices
   std::vector<std::size_t> counts_;     // bin_triangles' count per thread and bin (thread-major)
   std::vector<std::size_t> bin_start_;  // bin b's triangles: slot_boxes_[bin_start_[b] .. bin_start_[b + 1])
   std::vector<SlotBox> slot_boxes_;     // the triangles by bin, with their boxes of this step
