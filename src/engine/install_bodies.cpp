@@ -16,6 +16,7 @@
 
 #include "boundary/walls.hpp"
 #include "engine/installer.hpp"
+#include "engine/pair_laws.hpp"
 #include "engine/lees_edwards_spec.hpp"
 #include "engine/rigid_bodies.hpp"
 #include "engine/simulation.hpp"
@@ -85,6 +86,13 @@ void check_bodies(const std::vector<BodySpec>& list, const SimulationSpec& spec)
     keys::fail("walls.adaptive", "true", "the adaptive wall force does not work with [[body]] rigid bodies yet");
   if (spec.bond_subcycles > 1)
     keys::fail("bonds.subcycles", std::to_string(spec.bond_subcycles), "[[body]] rigid bodies need bonds.subcycles = 1");
+  // Single-particle DPD's rotational friction would see the body's particles as not spinning (their
+  // spins do not follow the body's rotation), and the law's torques on them would not reach the body.
+  if (pair_law(spec.pair_style).style == SpdpdLaw::kStyle)
+    keys::fail("pair.style", std::string(SpdpdLaw::kStyle),
+               "[[body]] rigid bodies do not work with single-particle DPD yet (the body's particles would not spin "
+               "with it, and the law's torques on them would not reach it); use pair.style = \"dpd\", or sp-DPD "
+               "colloids without [[body]] (examples/colloids/brownian.toml)");
   std::vector<std::string> used;
   for (std::size_t k = 0; k < list.size(); ++k) {
     const std::string key = fmt::format("body[{}]", k);

@@ -514,6 +514,12 @@ TEST(RigidBodies, BadInputIsRefusedNamingTheKey) {
   expect_refused(suspension("repulsion = -1\n"), "body[0].repulsion");
   // A towed body moving along the sheared gradient axis.
   expect_refused(sheared("motion = \"towed\"\nvelocity = [0, 0.1, 0]\n"), "body[0].velocity");
+  // Bodies in a single-particle DPD fluid.
+  std::string spin = suspension("");
+  spin.replace(spin.find("[pair]\n"), 7, "[pair]\nstyle = \"spdpd\"\ngamma_perp = 4.5\n");
+  spin.replace(spin.find("density = 3\n"), 12, "density = 3\nradius = 0.5\n");
+  spin.replace(spin.find("frozen = true\n"), 14, "frozen = true\nradius = 0.5\n");
+  expect_refused(spin, "pair.style");
 }
 
 // A body driven out through a bounded face stops the run naming it.
