@@ -887,8 +887,8 @@ class MembraneBounceStage final : public Stage {
       const float fh[3] = {spans ? inf : static_cast<float>(ph.x), spans ? inf : static_cast<float>(ph.y), spans ? inf : static_cast<float>(ph.z)};
       for_bins(runs, [&](std::size_t bin, const std::array<long, 3>& image) {
         // First in single precision against the slots' boxes in the wrapped frame (the bin's image taken
-        // off), contiguous in memory; branch-free over blocks of slots, the survivors (a few in a
-        // thousand) then in slot order.
+        // off), contiguous in memory; branch-free over blocks of slots, the few survivors then in slot
+        // order.
         const float fc[3] = {static_cast<float>(pc.x - static_cast<double>(image[0]) * box.len.x),
                              static_cast<float>(pc.y - static_cast<double>(image[1]) * box.len.y),
                              static_cast<float>(pc.z - static_cast<double>(image[2]) * box.len.z)};
@@ -996,7 +996,6 @@ class MembraneBounceStage final : public Stage {
     return !(apart(0, pc.x, ph.x, tb.lo.x, tb.hi.x) || apart(1, pc.y, ph.y, tb.lo.y, tb.hi.y) ||
              apart(2, pc.z, ph.z, tb.lo.z, tb.hi.z));
   }
-
 
   // Along axis d: the bin of coordinate v, and the image of v (0 on a bounded axis, whose end bins take
   // what lies beyond).
