@@ -83,7 +83,7 @@ def main():
     ap.add_argument("--a", type=float, default=25.0)
     ap.add_argument("--time", type=float, default=1000.0, help="time units sampled per point")
     ap.add_argument("--dt", type=float, default=0.04, help="largest time step (smaller where the images need it)")
-    ap.add_argument("--config", default="shear.toml", help="the config in examples/shear (melt.toml: the polymer melt)")
+    ap.add_argument("--config", default="shear.toml", help="the config in examples/shear (melt.toml: the polymer melt; melt_sg.toml: the melt under Stoyanov-Groot)")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--plot", default="")
@@ -92,7 +92,7 @@ def main():
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda r: run_point(args, r), args.rates))
     eta_d = 2 * math.pi * 4.5 * 9.0 / 1575.0
-    print(f"{args.config}: a = {args.a:g}, rho = 3, gamma = 4.5, kT = 1, box 12 x 10 x 8 (gradient 10), {args.time:g} time units per point "
+    print(f"{args.config}: a = {args.a:g}, rho = 3, kT = 1, box 12 x 10 x 8 (gradient 10), {args.time:g} time units per point "
           f"({platform.processor() or platform.machine()})\n")
     print("| shear rate | dt | eta | eta kinetic | eta pairs | N1 | N2 | kT across the flow |")
     print("|---|---|---|---|---|---|---|---|")
@@ -138,7 +138,9 @@ def main():
         bx.set_xlabel("shear rate")
         bx.set_ylabel("normal stress difference")
         bx.legend()
-        what = "polymer melt (10-bead chains)" if args.config == "melt.toml" else "simple fluid"
+        what = "simple fluid"
+        if args.config.startswith("melt"):
+            what = "polymer melt (10-bead chains)" + (", Stoyanov-Groot" if "_sg" in args.config else "")
         fig.suptitle(f"Lees-Edwards shear, {what}, a = {args.a:g}, rho = 3")
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)
