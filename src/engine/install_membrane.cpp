@@ -795,13 +795,12 @@ class MembraneBounceStage final : public Stage {
         gather_(first, count, VertexGather::Velocities::HalfStep), momentum_(count) {
     for (std::uint32_t c = 0; c < cells_.size(); ++c) {
       const std::uint32_t off = cells_[c].first - gather_.first();
-      for (std::uint32_t t = 0; t < cells_[c].model.mesh().triangles.size(); ++t) {
-        const auto& tri = cells_[c].model.mesh().triangles[t];
-        triangles_.push_back({c, t});
+      for (const auto& tri : cells_[c].model.mesh().triangles) {
+        cell_of_.push_back(c);
         corners_.push_back({off + tri[0], off + tri[1], off + tri[2]});
       }
     }
-    swept_.resize(triangles_.size());
+    swept_.resize(corners_.size());
   }
 
   void run(StepContext& ctx) override {
@@ -860,7 +859,7 @@ class MembraneBounceStage final : public Stage {
     Vec3 hcur{p.hx[i], p.hy[i], p.hz[i]};
     Vec3 end = r, start = r - dt * hcur;
     double t0 = 0;
-    std::uint32_t last_cell = ~0u, last_tri = ~0u;
+    std::uint32_t last_g = ~0u;  // the triangle met last (index in corners_)
     std::array<std::uint32_t, 3> last_corners{};
     Vec3 last_shift;
     double last_side = 1.0;
@@ -871,7 +870,6 @@ class MembraneBounceStage final : public Stage {
       std::uint32_t best_g = ~0u;
       membrane::Hit hit;
       std::array<std::uint32_t, 3> corners{};
-      std::uint32_t hit_cell = 0, hit_tri = 0;
       Vec3 shift;
       // The path's box, as centre and half extents, for a quick test against each candidate's swept box
       // at the nearest image: it rejects only what the exact test below would reject (the boxes are
@@ -906,8 +904,7 @@ class MembraneBounceStage final : public Stage {
           }
           for (std::size_t q = 0; q < np; ++q) {
             const std::uint32_t g = slot_boxes_[base + pass[q]].triangle;
-            const auto [c, t] = triangles_[g];
-            if (c == last_cell && t == last_tri) continue;  // the reflected path leaves the triangle just met
+            if (g == last_g) continue;  // the reflected path leaves the triangle just met
             // The survivors' swept boxes again, in double precision at the nearest image.
             const Box3& tb = swept_[g];
             if (!near_box(box, pc, ph, tb)) continue;
@@ -927,8 +924,6 @@ class MembraneBounceStage final : public Stage {
               hit = *a;
               corners = v;
               shift = s;
-              hit_cell = c;
-              hit_tri = t;
             }
           }
         }
@@ -939,7 +934,7 @@ class MembraneBounceStage final : public Stage {
       // An elastic collision with the contact point, whose mass is M = 1 / sum_k w_k^2 / m_k: the
       // velocity relative to it reversed in the frame of their centre of mass, which conserves momentum
       // and energy (the full bounce-back 2 u - h of an immovable wall would heat the membrane).
-      const double mv = ctx.species_mass[cells_[hit_cell].species];
+      const double mv = ctx.species_mass[cells_[cell_of_[best_g]].species];
       const double big_m = mv / (hit.w[0] * hit.w[0] + hit.w[1] * hit.w[1] + hit.w[2] * hit.w[2]);
       const double mu = m * big_m / (m + big_m);
       const Vec3 hn = hcur - (2.0 * mu / m) * (hcur - u);
@@ -956,8 +951,7 @@ class MembraneBounceStage final : public Stage {
       start = contact;
       end = contact + ((1.0 - t0) * dt) * hn;
       hcur = hn;
-      last_cell = hit_cell;
-      last_tri = hit_tri;
+      last_g = best_g;
       last_corners = corners;
       last_shift = shift;
     }
@@ -970,7 +964,7 @@ class MembraneBounceStage final : public Stage {
   static constexpr std::size_t kBlock = 64;
   static constexpr int kRounds = 4;
   static constexpr double kBinWidth = 1.0;  // at least
-  // A triangle listed in a bin (its index in triangles_) with its box of this step, moved by whole box
+  // A triangle listed in a bin (its index in corners_) with its box of this step, moved by whole box
   // lengths to the image next to the bin (the wrapped frame), as centre and half extents in single
   // precision, the half extents padded for the rounding; +inf where its listing spans a whole periodic
   // axis (a box of a few bins), where only near_box's nearest image can tell.
@@ -1087,7 +1081,7 @@ class MembraneBounceStage final : public Stage {
       inv_width_[u] = static_cast<double>(bins_[u]) / box.length(d);
     }
     const std::size_t n_bins = bins_[0] * bins_[1] * bins_[2];
-    const std::size_t n_tri = triangles_.size();
+    const std::size_t n_tri = corners_.size();
     bin_start_.resize(n_bins + 1);
     // The pad covers the single-precision rounding of both sides' coordinates in bounce_particle's first
     // test (within a few box lengths of the origin), so that test passes whatever near_box passes: a slot
@@ -1113,7 +1107,7 @@ class MembraneBounceStage final : public Stage {
         for_bins(r, [&](std::size_t bin, const std::array<long, 3>& image) { visit(bin, image, exact); });
       };
       for (std::size_t g = g0; g < g1; ++g) {
-        if (!bounce_[triangles_[g].first]) continue;
+        if (!bounce_[cell_of_[g]]) continue;
         Box3 b{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
         for (std::uint32_t k : corners_[g])
           for (const Vec3& q : {x1[k], x1[k] - dt * h[k]}) {
@@ -1140,7 +1134,7 @@ class MembraneBounceStage final : public Stage {
         slot_boxes_.resize(next);
       }
       for (std::size_t g = g0; g < g1; ++g) {
-        if (!bounce_[triangles_[g].first]) continue;
+        if (!bounce_[cell_of_[g]]) continue;
         const Box3& tb = swept_[g];
         const double lo[3] = {tb.lo.x, tb.lo.y, tb.lo.z}, hi[3] = {tb.hi.x, tb.hi.y, tb.hi.z};
         each_bin(g, [&](std::size_t bin, const std::array<long, 3>& image, bool exact) {
@@ -1228,8 +1222,10 @@ class MembraneBounceStage final : public Stage {
   std::vector<Vec3> momentum_;
   std::array<std::size_t, 3> bins_{1, 1, 1};
   std::array<double, 3> inv_width_{1, 1, 1};  // bins per unit length along each axis
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles_;  // (cell, triangle) of every triangle, in order
-  std::vector<std::array<std::uint32_t, 3>> corners_;                // each one's corners among the gathered vertices
+  // Every triangle of every cell, in (cell, triangle) order: its cell, and its corners among the gathered
+  // vertices.
+  std::vector<std::uint32_t> cell_of_;
+  std::vector<std::array<std::uint32_t, 3>> corners_;
   std::vector<std::size_t> counts_;     // bin_triangles' count per thread and bin (thread-major)
   std::vector<std::size_t> bin_start_;  // bin b's triangles: slot_boxes_[bin_start_[b] .. bin_start_[b + 1])
   std::vector<SlotBox> slot_boxes_;     // the triangles by bin, with their boxes of this step
