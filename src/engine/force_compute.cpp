@@ -219,6 +219,8 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
 // parameters of a chunk of pairs are first copied into columns, which the loop then reads
 // contiguously, and a chunk whose pairs all share one species pair (the bulk of a fluid beside a wall)
 // runs with constants. Same values, same arithmetic, same bits.
+// The pair callback is always inlined into these loops (as the laws' evaluators are into it,
+// MESODPD_HD_FORCE), so that they vectorise.
 template <class Params, class Pair>
 inline void for_each_pair_params(const PairBatch& b, std::size_t m, const Params* params, int ns,
                                  const std::int32_t* species, const Pair& pair) {
@@ -293,7 +295,7 @@ struct ForcePass {
 
   void evaluate(PairBatch& b, std::size_t m, std::int64_t* local) const {
     // Pair k with the parameters pp of its species pair.
-    auto pair = [&](const Params& pp, std::size_t k) {
+    auto pair = [&](const Params& pp, std::size_t k) __attribute__((always_inline)) {
       PairInput<PairReal> in;
       in.r = b.r[k];
       if constexpr (kVelocity) in.rv = b.rv[k];

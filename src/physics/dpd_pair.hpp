@@ -8,6 +8,7 @@
 #include "core/vec3.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
+#include "physics/power.hpp"
 
 namespace mesodpd {
 
@@ -64,8 +65,8 @@ MESODPD_HD void dpd_weights(Real om, Real s, Real& wd, Real& wr) {
     wd = std::sqrt(std::sqrt(om));
     wr = std::sqrt(wd);
   } else {
-    wd = std::pow(om, s);
-    wr = std::pow(om, Real(0.5) * s);
+    wr = pow_pos(om, Real(0.5) * s);  // one power (physics/power.hpp): w_D = w_R^2
+    wd = wr * wr;
   }
 }
 
@@ -134,7 +135,7 @@ struct DpdLaw {
   template <WeightKind W>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       return dpd_pair_force<W>(p, in.r, in.rv, in.xi, in.inv_sqrt_dt);
     }
   };

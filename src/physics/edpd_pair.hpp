@@ -31,6 +31,7 @@
 #include "physics/dpd_pair.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
+#include "physics/power.hpp"
 
 namespace mesodpd {
 
@@ -181,10 +182,13 @@ struct EdpdLaw {
   }
   static LawProblem problem(const PairValues&) { return {}; }
 
-  template <WeightKind W>
+  // kPowers: some pair has a_t other than 0 or 1 or s_T other than 2, which take a power per pair; else
+  // those factors are plain arithmetic. (Both are choices per table, not per pair: a select on a loop
+  // constant inside the law keeps the compiler from vectorising the pair loop.)
+  template <WeightKind W, bool kPowers = false>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       const bool apart = in.r > Real(0);
       const Real ti = in.si[0], tj = in.sj[0];
       const Real tbar = Real(0.5) * (ti + tj);
@@ -196,16 +200,18 @@ struct EdpdLaw {
       if constexpr (W == WeightKind::General) {
         Real s = p.s * edpd_poly(p.s_t, theta);
         s = s > Real(0.01) ? s : Real(0.01);
-        wr = std::pow(om, Real(0.5) * s);  // one power: w_D = w_R^2
+        wr = pow_pos(om, Real(0.5) * s);  // one power (physics/power.hpp): w_D = w_R^2
         wd = wr * wr;
       } else {
         dpd_weights<W>(om, p.s, wd, wr);
       }
       const Real sigma = std::sqrt(Real(4) * p.gamma * ti * tj / (ti + tj));
-      // (Tbar/kT)^{a_t}: a_t = 1 (Li et al. 2014's choice, LAMMPS's example) and 0 without a power.
-      const Real amp = p.a_t == Real(0)   ? p.a
-                       : p.a_t == Real(1) ? p.a * (tbar * p.inv_kt)
-                                          : p.a * std::pow(tbar * p.inv_kt, p.a_t);
+      // (Tbar/kT)^{a_t}: a_t = 1 (Li et al. 2014's choice, LAMMPS's example) and 0 without a power, as
+      // (1 - a_t) + a_t x, which is exactly 1 or x.
+      const Real x = tbar * p.inv_kt;
+      Real amp;
+      if constexpr (kPowers) amp = p.a * pow_pos(x, p.a_t);
+      else amp = p.a * ((Real(1) - p.a_t) + p.a_t * x);
       PairForceT<Real> out;
       out.fc = amp * wc;
       out.energy = Real(0.5) * amp * p.rc * wc * wc;
@@ -213,7 +219,9 @@ struct EdpdLaw {
       out.fr = sigma * wr * in.xi * in.inv_sqrt_dt;
       // Heat (energy per time into i).
       const Real omt = (apart && in.r < p.rct) ? Real(1) - in.r / p.rct : Real(0);
-      const Real wct = p.st == Real(2) ? omt * omt : std::pow(omt, p.st);
+      Real wct;
+      if constexpr (kPowers) wct = pow_pos(omt, p.st);
+      else wct = omt * omt;
       const Real wrt = std::sqrt(wct);
       Real kap = p.kappa * edpd_poly(p.kappa_t, theta);
       kap = kap > Real(0) ? kap : Real(0);
@@ -227,13 +235,20 @@ struct EdpdLaw {
   };
 
   // The closed-form weights when every pair has the same s and no s(T); the general pow form otherwise.
+  // A temperature exponent a_t other than 0 and 1 or a heat exponent s_T other than 2 takes the
+  // evaluator with every power general.
+  template <WeightKind W>
+  using EvalPlain = Eval<W, false>;
   template <class Table, class F>
   static void with_evaluator(const Table& table, F&& f) {
-    bool varies = false;
-    for (const auto& q : table)
+    bool varies = false, powers = false;
+    for (const auto& q : table) {
       for (int k = 0; k < 4; ++k) varies = varies || q.s_t[k] != 0;
+      powers = powers || !(q.a_t == 0 || q.a_t == 1) || q.st != 2;
+    }
+    if (powers) return f(Eval<WeightKind::General, true>{});
     if (varies) return f(Eval<WeightKind::General>{});
-    with_weight_evaluator<Eval>(table, [](const auto& q) { return q.s; }, f);
+    with_weight_evaluator<EvalPlain>(table, [](const auto& q) { return q.s; }, f);
   }
 };
 

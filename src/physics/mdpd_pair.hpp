@@ -80,7 +80,7 @@ struct MdpdLaw {
   template <WeightKind W>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       PairForceT<Real> out = dpd_pair_force<W>(p.dpd, in.r, in.rv, in.xi, in.inv_sqrt_dt);
       const bool apart = in.r > Real(0);
       const Real wc = (apart && in.r < p.dpd.rc) ? Real(1) - in.r / p.dpd.rc : Real(0);

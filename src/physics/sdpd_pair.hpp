@@ -27,6 +27,7 @@
 #include <type_traits>
 
 #include "core/hd.hpp"
+#include "physics/power.hpp"
 #include "physics/density_kernel.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
@@ -71,7 +72,7 @@ MESODPD_HD Real sdpd_pressure(const SdpdPairParamsT<Real>& p, Real rho) {
     const Real x2 = x * x, x3 = x2 * x;
     xn = x3 * x3 * x;
   } else {
-    xn = std::pow(x, p.eos_n);
+    xn = pow_pos(x, p.eos_n);
   }
   return p.p0 * (xn - Real(1)) + p.pb;
 }
@@ -218,7 +219,7 @@ struct SdpdLaw {
   template <int Kernel, int N>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       const bool apart = in.r > Real(0);
       const Real om = (apart && in.r < p.h) ? Real(1) - in.r * p.inv_h : Real(0);
       const Real f = Kernel == 1 ? p.fnorm * om * om * om : p.fnorm * om * om;  // F(r), 0 beyond h

@@ -47,7 +47,7 @@ struct SoftLaw {
   struct Eval {
     // F = -dU/dr = (pi A / r_c) sin(pi r / r_c); zero at r = 0 (no direction) and beyond r_c.
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       constexpr Real kPi = Real(3.14159265358979323846);
       const bool inside = in.r < p.rc;
       const Real phase = kPi * in.r / p.rc;

@@ -41,6 +41,7 @@
 #include "physics/dpd_pair.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
+#include "physics/power.hpp"
 
 namespace mesodpd {
 
@@ -136,7 +137,7 @@ struct SpdpdLaw {
   template <WeightKind W, bool kSame>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       // Along e: DPD's conservative, dissipative and random forces (e . u_ij = e . v_ij).
       PairForceT<Real> out = dpd_pair_force<W>(p.central(), in.r, in.rv, in.xi, in.inv_sqrt_dt);
       const bool apart = in.r > Real(0);
@@ -147,8 +148,8 @@ struct SpdpdLaw {
       if constexpr (kSame) {
         dpd_weights<W>(om, p.s, wd, wr);
       } else {
-        wd = std::pow(om, p.s_perp);
-        wr = std::pow(om, Real(0.5) * p.s_perp);
+        wr = pow_pos(om, Real(0.5) * p.s_perp);
+        wd = wr * wr;
       }
       // The surfaces' relative velocity u = v_ij + r_ij x (lambda_ij Omega_i + lambda_ji Omega_j).
       const Real wx = p.lambda_i * in.si[0] + p.lambda_j * in.sj[0];

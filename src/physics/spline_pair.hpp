@@ -92,7 +92,7 @@ struct SplineLaw {
   template <WeightKind W>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       PairForceT<Real> out = dpd_pair_force<W>(p.dpd, in.r, in.rv, in.xi, in.inv_sqrt_dt);
       Real w1, d1, w2, d2;
       cubic_spline(in.r, p.rc1, w1, d1);

@@ -23,6 +23,7 @@
 
 #include "core/hd.hpp"
 #include "physics/dpd_pair.hpp"
+#include "physics/power.hpp"
 #include "physics/law_keys.hpp"
 #include "physics/pair_force.hpp"
 
@@ -148,7 +149,7 @@ struct TdpdLaw {
   template <bool kQuadratic>
   struct Eval {
     template <class Real>
-    MESODPD_HD PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
+    MESODPD_HD_FORCE PairForceT<Real> operator()(const Params<Real>& p, const PairInput<Real>& in) const {
       const bool apart = in.r > Real(0);
       const Real wc = (apart && in.r < p.rc) ? Real(1) - in.r / p.rc : Real(0);
       const Real om = (apart && in.r < p.rd) ? Real(1) - in.r / p.rd : Real(0);
@@ -169,7 +170,7 @@ struct TdpdLaw {
           wdc = omc * omc;
           wrc = omc;
         } else {
-          wdc = std::pow(omc, p.sc[k]);
+          wdc = pow_pos(omc, p.sc[k]);
           wrc = std::sqrt(wdc);
         }
         const Real q = -p.kappa[k] * wdc * (in.si[k] - in.sj[k]) +

@@ -146,13 +146,24 @@ SimulationSpec three_species(PairStyle style, double s) {
   return spec;
 }
 
-// eDPD with a temperature-dependent exponent s(T) (the general pow form for every pair).
-SimulationSpec edpd_with_s_of_t() {
-  SimulationSpec spec = three_species(style_named("edpd"), 2.0);
+// eDPD with s_T = 2 for every pair (three_species gives one pair 1.5), so that its evaluator takes no
+// power for the heat weight and none for a_t (0 or 1): EdpdLaw's plain evaluators; three_species
+// itself takes the one with every power general.
+SimulationSpec edpd_plain(double s) {
+  SimulationSpec spec = three_species(style_named("edpd"), s);
+  for (PairSpec& ps : spec.pairs) ps.own["st"] = 2.0;
+  return spec;
+}
+
+// eDPD with a temperature-dependent exponent s(T) (the general pow form for every pair), plain (s_T = 2,
+// a_t 0 or 1) or with a power for a_t = 0.7 on one pair.
+SimulationSpec edpd_with_s_of_t(bool powers) {
+  SimulationSpec spec = edpd_plain(2.0);
   for (PairSpec& ps : spec.pairs) {
     ps.own["s_t1"] = 0.3;
     ps.own["s_t3"] = -0.1;
   }
+  if (powers) spec.pairs[1].own["a_t"] = 0.7;
   return spec;
 }
 
@@ -233,7 +244,9 @@ TEST(PairLoop, EveryLawEqualsTheReferenceLoop) {
                                       {"spline s=1/2", three_species(PairStyle::Spline, 0.5)},
                                       {"edpd", three_species(style_named("edpd"), 2.0)},
                                       {"edpd s=1/2", three_species(style_named("edpd"), 0.5)},
-                                      {"edpd s(T)", edpd_with_s_of_t()},
+                                      {"edpd s=2 plain", edpd_plain(2.0)},
+                                      {"edpd s(T)", edpd_with_s_of_t(false)},
+                                      {"edpd s(T) a_t=0.7", edpd_with_s_of_t(true)},
                                       {"tdpd", three_species(style_named("tdpd"), 2.0)},
                                       {"tdpd general", tdpd_general()},
                                       {"sdpd lucy linear", sdpd_species(DensityKernelChoice::Lucy, 1.0)},
