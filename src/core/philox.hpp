@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/hd.hpp"
+#include "core/portable_math.hpp"
 
 namespace mesodpd {
 
@@ -79,17 +80,28 @@ MESODPD_HD double gaussian_unit(std::uint32_t w0, std::uint32_t w1) {
   return r * std::cos(6.283185307179586 * u01_open(w1));
 }
 
+// The same variate for the pair noise, with the logarithm and cosine of core/portable_math.hpp in place
+// of the library's: the pair loop draws it a vector of pairs at a time (engine/force_compute.cpp) and the
+// scalar reference loop one pair at a time, with the same bits on every SIMD target. (gaussian_unit keeps
+// the library functions for the draws made outside the pair loop: initial velocities, wall reflections,
+// the pair thermostats; their bits stay as they were.) Agrees with gaussian_unit to a few units in the
+// last place (tests/physics/test_pair_force.cpp, PortableMath.*).
+MESODPD_HD_FORCE double gaussian_unit_portable(std::uint32_t w0, std::uint32_t w1) {
+  const double r = std::sqrt(-2.0 * ln_pos(u01_open(w0)));
+  return r * cos_two_pi(u01_open(w1));
+}
+
 enum class NoiseKind : int { Uniform = 0, Gaussian = 1 };
 
 MESODPD_HD double pair_noise(std::uint64_t seed, std::uint64_t step, std::uint32_t id_a, std::uint32_t id_b,
                              NoiseKind kind) {
   const Philox4x32 r = pair_random_bits(seed, step, id_a, id_b, RngStream::PairNoise);
-  return kind == NoiseKind::Uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit(r.v[0], r.v[1]);
+  return kind == NoiseKind::Uniform ? uniform_unit_variance(r.v[0]) : gaussian_unit_portable(r.v[0], r.v[1]);
 }
 
 // A unit-variance variate of either kind from two words (a uniform one reads the first).
 MESODPD_HD double unit_noise(NoiseKind kind, std::uint32_t w0, std::uint32_t w1) {
-  return kind == NoiseKind::Uniform ? uniform_unit_variance(w0) : gaussian_unit(w0, w1);
+  return kind == NoiseKind::Uniform ? uniform_unit_variance(w0) : gaussian_unit_portable(w0, w1);
 }
 
 // The pair noise xi of pair_noise (the same bits) and n <= 4 unit-variance noises that are antisymmetric,

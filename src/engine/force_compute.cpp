@@ -136,28 +136,24 @@ inline void note_overflow_in(PairBatch& b, std::size_t m, double scale, double l
 }
 static_assert(PairBatch::kCapacity % 16 == 0, "to_fixed_array rounds batch lengths up to whole vectors");
 
-// The uniform pair noise of core/philox.hpp (pair_noise with NoiseKind::Uniform), a vector of pairs at a
-// time, with the same bits: each 32-bit Philox word lives in the low half of a 64-bit lane, where one
-// 32 x 32 -> 64 multiply (MulEven) gives both halves of a round's product. Upper halves may hold
-// garbage between rounds; MulEven reads only the low halves and the result is masked at the end.
-// (GCC vectorises the scalar version too, but spends most of it packing and unpacking 32-bit lanes.)
-// x86 SIMD targets only; elsewhere the scalar loop runs.
+// The pair noise of core/philox.hpp a vector of pairs at a time, with the same bits as its scalar
+// functions. x86 SIMD targets only; elsewhere the scalar loop runs.
 #undef MESODPD_VECTOR_NOISE
 #if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
 #define MESODPD_VECTOR_NOISE 1
-// Word 0 of the draw goes to `w0` (antisymmetric, with the sign of id_a < id_b, if `w0_antisymmetric`),
-// word 2 to `w2` (antisymmetric unless `w2_symmetric`; not computed where null): for pair_noise's xi
-// (stream PairNoise, word 0), the uniform noises of pair_noise_with_scalars and those of
-// pair_noise_words (both symmetric), the same bits.
-template <class Real>
-HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
-                                    Real* HWY_RESTRICT w0, bool w0_antisymmetric, Real* HWY_RESTRICT w2, std::size_t m,
-                                    std::uint64_t seed, std::uint64_t step, RngStream stream,
-                                    bool w2_symmetric = false) {
+// The Philox draw pair_random_bits(seed, step, ids_a[k], ids_b[k], stream) for k in [0, m), a vector of
+// pairs at a time: calls emit(k, a, b, c0, c1, c2, c3) with the pairs' ids (32-bit lanes) and the four
+// words of their draws, each 32-bit word in the low half of a 64-bit lane, where one 32 x 32 -> 64
+// multiply (MulEven) gives both halves of a round's product. Upper halves may hold garbage; MulEven reads
+// only the low halves, and emit must mask them. (GCC vectorises the scalar version too, but spends most
+// of it packing and unpacking 32-bit lanes.) m is rounded up to whole vectors: the id arrays must be
+// readable that far (PairBatch's capacity is a multiple of 16).
+template <class Emit>
+HWY_INLINE void philox_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
+                             std::size_t m, std::uint64_t seed, std::uint64_t step, RngStream stream, const Emit& emit) {
   const hn::ScalableTag<std::uint64_t> d64;
   const hn::Rebind<std::uint32_t, decltype(d64)> d32;      // one id per 64-bit lane
   const hn::Repartition<std::uint32_t, decltype(d64)> dw;  // a 64-bit vector seen as 32-bit words
-  const hn::Rebind<double, decltype(d64)> dd;
   const auto m0 = hn::BitCast(dw, hn::Set(d64, kPhiloxM0));
   const auto m1 = hn::BitCast(dw, hn::Set(d64, kPhiloxM1));
   std::uint64_t key0[kPhiloxRounds], key1[kPhiloxRounds];  // the keys of each round
@@ -168,9 +164,6 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
   }
   const auto word2 = hn::Set(d64, static_cast<std::uint32_t>(step));
   const auto word3 = hn::Set(d64, pair_counter_word3(step, stream));
-  const auto low32 = hn::Set(d64, 0xFFFFFFFFull);
-  const auto exp52 = hn::Set(d64, 0x4330000000000000ull);  // the bits of 2^52
-  const auto two52 = hn::Set(dd, 4503599627370496.0);
   for (std::size_t k = 0; k < m; k += hn::Lanes(d64)) {
     const auto a = hn::LoadU(d32, ids_a + k), b = hn::LoadU(d32, ids_b + k);
     auto c0 = hn::PromoteTo(d64, hn::Min(a, b)), c1 = hn::PromoteTo(d64, hn::Max(a, b));
@@ -183,6 +176,24 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
       c1 = p1;
       c3 = p0;
     }
+    emit(k, a, b, c0, c1, c2, c3);
+  }
+}
+
+// The uniform noise (NoiseKind::Uniform). Word 0 of the draw goes to `w0`, word 2 to `w2` (not computed
+// where null), each antisymmetric (the sign of id_a < id_b) where asked: the layouts of pair_noise,
+// pair_noise_with_scalars and pair_noise_words, the same bits.
+template <class Real>
+HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
+                                    Real* HWY_RESTRICT w0, bool w0_antisymmetric, Real* HWY_RESTRICT w2,
+                                    bool w2_antisymmetric, std::size_t m, std::uint64_t seed, std::uint64_t step,
+                                    RngStream stream) {
+  const hn::ScalableTag<std::uint64_t> d64;
+  const hn::Rebind<double, decltype(d64)> dd;
+  const auto low32 = hn::Set(d64, 0xFFFFFFFFull);
+  const auto exp52 = hn::Set(d64, 0x4330000000000000ull);  // the bits of 2^52
+  const auto two52 = hn::Set(dd, 4503599627370496.0);
+  philox_array(ids_a, ids_b, m, seed, step, stream, [&](std::size_t k, auto a, auto b, auto c0, auto, auto c2, auto) {
     // u01_open(w) = (w + 0.5) / 2^32 with w converted exactly (2^52 + w, less 2^52); then
     // uniform_unit_variance: sqrt(3) (2 u - 1), in the scalar version's order.
     const auto unit = [&](auto word) {
@@ -204,9 +215,65 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
     store(w0_antisymmetric ? hn::IfThenElse(flip, hn::Neg(x0), x0) : x0, w0);
     if (w2) {
       const auto x2 = unit(c2);
-      store(w2_symmetric ? x2 : hn::IfThenElse(flip, hn::Neg(x2), x2), w2);
+      store(w2_antisymmetric ? hn::IfThenElse(flip, hn::Neg(x2), x2) : x2, w2);
+    }
+  });
+}
+
+// The Gaussian noise (NoiseKind::Gaussian, gaussian_unit_portable): words 0 and 1 of the draw to `w01`,
+// words 2 and 3 to `w23` (not computed where null), each antisymmetric (the sign of id_a < id_b) where
+// asked; the layouts of pair_noise, pair_noise_with_scalars and pair_noise_words, the same bits. The
+// words of a chunk of pairs go through a buffer; the Box-Muller loops over it are plain code that the
+// compiler vectorises (the logarithm and cosine of core/portable_math.hpp, no library call).
+template <class Real>
+HWY_INLINE void gaussian_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
+                                     Real* HWY_RESTRICT w01, bool w01_antisymmetric, Real* HWY_RESTRICT w23,
+                                     bool w23_antisymmetric, std::size_t m, std::uint64_t seed, std::uint64_t step,
+                                     RngStream stream) {
+  constexpr std::size_t kChunk = 128;  // a multiple of every vector length
+  static_assert(PairBatch::kCapacity % kChunk == 0, "chunks must tile the batch");
+  const hn::ScalableTag<std::uint64_t> d64;
+  alignas(64) std::uint64_t word[4][kChunk];
+  // A loop constant would be a select GCC 12 does not vectorise (docs/architecture.md): the sign is
+  // instead a choice between two constants by the pair's ids.
+  const double other01 = w01_antisymmetric ? -1.0 : 1.0, other23 = w23_antisymmetric ? -1.0 : 1.0;
+  for (std::size_t k0 = 0; k0 < m; k0 += kChunk) {
+    const std::size_t c = std::min(kChunk, m - k0);
+    const std::uint32_t* HWY_RESTRICT a = ids_a + k0;
+    const std::uint32_t* HWY_RESTRICT b = ids_b + k0;
+    philox_array(a, b, c, seed, step, stream, [&](std::size_t k, auto, auto, auto c0, auto c1, auto c2, auto c3) {
+      hn::Store(c0, d64, word[0] + k);
+      hn::Store(c1, d64, word[1] + k);
+      if (w23) {
+        hn::Store(c2, d64, word[2] + k);
+        hn::Store(c3, d64, word[3] + k);
+      }
+    });
+    Real* HWY_RESTRICT out01 = w01 + k0;
+    for (std::size_t k = 0; k < c; ++k) {
+      const double sign = a[k] < b[k] ? 1.0 : other01;
+      out01[k] = static_cast<Real>(sign * gaussian_unit_portable(static_cast<std::uint32_t>(word[0][k]),
+                                                                 static_cast<std::uint32_t>(word[1][k])));
+    }
+    if (!w23) continue;
+    Real* HWY_RESTRICT out23 = w23 + k0;
+    for (std::size_t k = 0; k < c; ++k) {
+      const double sign = a[k] < b[k] ? 1.0 : other23;
+      out23[k] = static_cast<Real>(sign * gaussian_unit_portable(static_cast<std::uint32_t>(word[2][k]),
+                                                                 static_cast<std::uint32_t>(word[3][k])));
     }
   }
+}
+// Either kind: the first variate of the draw (word 0, or words 0 and 1) to `first`, the second (word 2,
+// or words 2 and 3) to `second` where not null.
+template <class Real>
+HWY_INLINE void noise_array(NoiseKind kind, const std::uint32_t* ids_a, const std::uint32_t* ids_b, Real* first,
+                            bool first_antisymmetric, Real* second, bool second_antisymmetric, std::size_t m,
+                            std::uint64_t seed, std::uint64_t step, RngStream stream) {
+  if (kind == NoiseKind::Uniform)
+    uniform_noise_array(ids_a, ids_b, first, first_antisymmetric, second, second_antisymmetric, m, seed, step, stream);
+  else
+    gaussian_noise_array(ids_a, ids_b, first, first_antisymmetric, second, second_antisymmetric, m, seed, step, stream);
 }
 #else
 #define MESODPD_VECTOR_NOISE 0
@@ -578,51 +645,42 @@ HWY_INLINE void evaluate_batch(PairBatch& b, std::size_t m, const Pass& pass, co
   // their antisymmetric noises (the first from the same draw).
   if constexpr (Pass::kScalars > 0) {
     const int ns = g.n_scalars;
-#if MESODPD_VECTOR_NOISE
-    if (kind == NoiseKind::Uniform) {  // the layout of pair_noise_with_scalars, a vector at a time
-      uniform_noise_array(b.iid, b.jid, b.xi, false, ns > 0 ? b.xs[0] : static_cast<PairReal*>(nullptr), m, seed, step, RngStream::PairNoise);
-      if (ns > 1)
-        uniform_noise_array(b.iid, b.jid, b.xs[1], true, ns > 2 ? b.xs[2] : static_cast<PairReal*>(nullptr), m, seed, step, RngStream::ScalarNoise);
-      if (ns > 3) uniform_noise_array(b.iid, b.jid, b.xs[3], true, static_cast<PairReal*>(nullptr), m, seed, step, RngStream::ScalarNoise2);
-    } else
-#endif
+#if MESODPD_VECTOR_NOISE  // the layout of pair_noise_with_scalars, a vector at a time
+    PairReal* const none = nullptr;
+    noise_array(kind, b.iid, b.jid, b.xi, false, ns > 0 ? b.xs[0] : none, true, m, seed, step, RngStream::PairNoise);
+    if (ns > 1)
+      noise_array(kind, b.iid, b.jid, b.xs[1], true, ns > 2 ? b.xs[2] : none, true, m, seed, step, RngStream::ScalarNoise);
+    if (ns > 3) noise_array(kind, b.iid, b.jid, b.xs[3], true, none, true, m, seed, step, RngStream::ScalarNoise2);
+#else
     for (std::size_t k = 0; k < m; ++k) {
       double xi, xs[kMaxScalars];
       pair_noise_with_scalars(seed, step, b.iid[k], b.jid[k], kind, xi, xs, ns);
       b.xi[k] = static_cast<PairReal>(xi);
       for (int c = 0; c < ns; ++c) b.xs[c][k] = static_cast<PairReal>(xs[c]);
     }
-  } else if constexpr (Pass::kNoise) {
-    if (kind == NoiseKind::Uniform) {
-#if MESODPD_VECTOR_NOISE
-      uniform_noise_array(b.iid, b.jid, b.xi, false, static_cast<PairReal*>(nullptr), m, seed, step, RngStream::PairNoise);
-#else
-      for (std::size_t k = 0; k < m; ++k)
-        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Uniform));
 #endif
-    } else {
-      for (std::size_t k = 0; k < m; ++k)
-        b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], NoiseKind::Gaussian));
-    }
+  } else if constexpr (Pass::kNoise) {
+#if MESODPD_VECTOR_NOISE
+    noise_array(kind, b.iid, b.jid, b.xi, false, static_cast<PairReal*>(nullptr), false, m, seed, step, RngStream::PairNoise);
+#else
+    for (std::size_t k = 0; k < m; ++k) b.xi[k] = static_cast<PairReal>(pair_noise(seed, step, b.iid[k], b.jid[k], kind));
+#endif
   }
   // The symmetric noise words of a law that draws its own (pair_noise_words, the same bits).
   if constexpr (Pass::kNoiseWords > 0) {
     constexpr int nw = Pass::kNoiseWords;
 #if MESODPD_VECTOR_NOISE
-    if (kind == NoiseKind::Uniform) {
-      for (int w = 0; w < nw; w += 2)
-        uniform_noise_array(b.iid, b.jid, b.xm[w], false, w + 1 < nw ? b.xm[w + 1] : static_cast<PairReal*>(nullptr), m,
-                            seed, step,
-                            static_cast<RngStream>(static_cast<std::uint32_t>(RngStream::PairMatrix) +
-                                                   static_cast<std::uint32_t>(w / 2)),
-                            true);
-    } else
-#endif
+    for (int w = 0; w < nw; w += 2)
+      noise_array(kind, b.iid, b.jid, b.xm[w], false, w + 1 < nw ? b.xm[w + 1] : static_cast<PairReal*>(nullptr), false,
+                  m, seed, step,
+                  static_cast<RngStream>(static_cast<std::uint32_t>(RngStream::PairMatrix) + static_cast<std::uint32_t>(w / 2)));
+#else
     for (std::size_t k = 0; k < m; ++k) {
       double xm[kMaxNoiseWords];
       pair_noise_words(seed, step, b.iid[k], b.jid[k], kind, xm, nw);
       for (int w = 0; w < nw; ++w) b.xm[w][k] = static_cast<PairReal>(xm[w]);
     }
+#endif
   }
   // Pass 3: the law or kernel and the fixed-point conversion.
   pass.evaluate(b, m, local);

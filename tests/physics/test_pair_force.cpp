@@ -194,3 +194,40 @@ TEST(Power, MatchesStdPowToAFewUlp) {
   EXPECT_TRUE(std::isinf(pow_pos(1e300, 3.0)));
   EXPECT_NEAR(pow_pos(0.5f, 0.205f), std::pow(0.5f, 0.205f), 1e-7f);
 }
+
+// The logarithm and cosine of core/portable_math.hpp against the library's, over the arguments the
+// Gaussian pair noise gives them (u01_open of every kind of 32-bit word, the extremes included), and the
+// Box-Muller variate built from them against gaussian_unit, which uses the library functions.
+TEST(PortableMath, LogCosineAndGaussianMatchTheLibrary) {
+  std::mt19937_64 gen(31);
+  double worst_ln = 0, worst_cos = 0, worst_gauss = 0;
+  for (int k = 0; k < 1000000; ++k) {
+    std::uint32_t w0 = static_cast<std::uint32_t>(gen()), w1 = static_cast<std::uint32_t>(gen());
+    if (k < 4) {  // the extremes of both words
+      w0 = (k & 1) != 0 ? 0xFFFFFFFFu : 0u;
+      w1 = (k & 2) != 0 ? 0xFFFFFFFFu : 0u;
+    }
+    if (k % 7 == 3) w0 >>= (k % 32);  // small u: the tail of the Gaussian
+    const double u = u01_open(w0), v = u01_open(w1);
+    worst_ln = std::max(worst_ln, std::abs(ln_pos(u) - std::log(u)) / std::abs(std::log(u)));
+    worst_cos = std::max(worst_cos, std::abs(cos_two_pi(v) - std::cos(6.283185307179586 * v)));
+    const double g = gaussian_unit_portable(w0, w1), want = gaussian_unit(w0, w1);
+    worst_gauss = std::max(worst_gauss, std::abs(g - want) / (1.0 + std::sqrt(-2.0 * std::log(u))));
+  }
+  std::printf("ln_pos: largest relative error %.3g; cos_two_pi: largest absolute error %.3g; Gaussian: largest "
+              "error / (1 + radius) %.3g\n", worst_ln, worst_cos, worst_gauss);
+  // ln: a few units in the last place. The cosine: the library's own argument 2 pi v rounds (up to
+  // 4.4e-16 near v = 1), so the two differ by about an ulp of 2 pi. The variate: the radius
+  // sqrt(-2 ln u) (up to 6.8) times the cosine's error, plus the radius's own rounding.
+  EXPECT_LT(worst_ln, 1e-15);
+  EXPECT_LT(worst_cos, 2e-15);
+  EXPECT_LT(worst_gauss, 2e-15);
+  // Exact values: ln 1 = 0, ln 2^k = k ln 2 to an ulp, cos at the quarter periods.
+  EXPECT_EQ(ln_pos(1.0), 0.0);
+  EXPECT_NEAR(ln_pos(0.125), -3 * std::log(2.0), 1e-15);
+  EXPECT_EQ(cos_two_pi(0.5), -1.0);
+  EXPECT_EQ(cos_two_pi(0.0), 1.0);
+  EXPECT_EQ(cos_two_pi(0.25), 0.0);
+  EXPECT_EQ(sin_half_period(0.0), 0.0);
+  EXPECT_EQ(sin_half_period(-0.3), -sin_half_period(0.3));
+}
