@@ -224,9 +224,12 @@ HWY_INLINE void uniform_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, con
 // words 2 and 3 to `w23` (not computed where null), each antisymmetric (the sign of id_a < id_b) where
 // asked; the layouts of pair_noise, pair_noise_with_scalars and pair_noise_words, the same bits. The
 // words of a chunk of pairs go through a buffer; the Box-Muller loops over it are plain code that the
-// compiler vectorises (the logarithm and cosine of core/portable_math.hpp, no library call).
+// compiler vectorises (the logarithm and cosine of core/portable_math.hpp, no library call). Not
+// inlined: one call per batch costs nothing, while a copy in every pass's flush (three call sites each)
+// made those functions three times their size, and tDPD runs with the uniform noise 5-10 % slower
+// (docs/performance.md, session 29).
 template <class Real>
-HWY_INLINE void gaussian_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
+HWY_NOINLINE void gaussian_noise_array(const std::uint32_t* HWY_RESTRICT ids_a, const std::uint32_t* HWY_RESTRICT ids_b,
                                      Real* HWY_RESTRICT w01, bool w01_antisymmetric, Real* HWY_RESTRICT w23,
                                      bool w23_antisymmetric, std::size_t m, std::uint64_t seed, std::uint64_t step,
                                      RngStream stream) {
